@@ -1,0 +1,13 @@
+#pragma once
+
+// One function per clearway-cli command. Each returns the process exit code: 0 success, 1 the
+// work failed (bad file, device error); usage mistakes throw UsageError (exit 2).
+
+#include <string>
+#include <vector>
+
+namespace clearway::cli {
+
+int runInfo(const std::vector<std::string>& words);
+
+}  // namespace clearway::cli

@@ -1,0 +1,61 @@
+// clearway-cli: the headless face of Clearway. main() only dispatches and maps failures to exit
+// codes: 0 success, 1 the work failed, 2 the command line was wrong.
+
+#include <exception>
+#include <functional>
+#include <iostream>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "arguments.h"
+#include "clearway/io/scan_error.h"
+#include "clearway/progress.h"
+#include "commands.h"
+
+namespace {
+
+constexpr const char* kUsage =
+    "usage: clearway-cli COMMAND [options]\n"
+    "\n"
+    "commands:\n"
+    "  info [--json] [--self-hit-radius M] FILE   describe a scan file\n"
+    "\n"
+    "Formats: .pcd .ply .xyz/.txt/.dat/.asc .bin (KITTI) .3d (+ .pose, 3DTK uos).\n"
+    "See README.md and docs/FORMATS.md.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  using Command = std::function<int(const std::vector<std::string>&)>;
+  const std::map<std::string, Command> commands = {
+      {"info", clearway::cli::runInfo},
+  };
+  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
+    std::cout << kUsage;
+    return argc < 2 ? 2 : 0;
+  }
+  const auto command = commands.find(argv[1]);
+  if (command == commands.end()) {
+    std::cerr << "clearway-cli: unknown command '" << argv[1] << "'\n" << kUsage;
+    return 2;
+  }
+  try {
+    return command->second(std::vector<std::string>(argv + 2, argv + argc));
+  } catch (const clearway::cli::UsageError& error) {
+    std::cerr << "clearway-cli " << argv[1] << ": " << error.what() << '\n';
+    return 2;
+  } catch (const clearway::ScanError& error) {
+    std::cerr << "clearway-cli: " << error.what() << '\n';
+    return 1;
+  } catch (const clearway::OperationCancelled&) {
+    std::cerr << "clearway-cli: cancelled\n";
+    return 1;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "clearway-cli: out of memory\n";
+    return 1;
+  } catch (const std::exception& error) {
+    std::cerr << "clearway-cli: " << error.what() << '\n';
+    return 1;
+  }
+}

@@ -1,0 +1,45 @@
+#pragma once
+
+// Reading every scan format Clearway meets into one Scan, and writing the RoSi's native PCD.
+// See docs/FORMATS.md for the formats and the axis conversions.
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+#include "clearway/io/scan_error.h"
+#include "clearway/progress.h"
+#include "clearway/scan.h"
+
+namespace clearway {
+
+enum class ScanFormat { kPcd, kPly, kXyz, kKittiBin, kUos };
+
+struct LoadOptions {
+  // Returns closer than this to the sensor are the robot or the mount: marked kSelfHit [m].
+  double self_hit_radius = 0.3;
+  // In files without a line structure, a new scan line starts where the angle along the line
+  // jumps back by more than this [deg].
+  double line_break_deg = 20.0;
+  // Files claiming more points than this are refused before anything is allocated.
+  std::uint64_t max_points = 200'000'000;
+  ProgressCallback progress;
+};
+
+// The format an extension names; throws ScanError for an unknown extension.
+ScanFormat formatFromPath(const std::filesystem::path& file);
+std::string formatName(ScanFormat format);
+
+// Loads any supported scan. Throws ScanError with a one-line reason for anything that is not a
+// readable scan (missing, truncated, corrupt, empty, absurd sizes), OperationCancelled on cancel.
+Scan loadScan(const std::filesystem::path& file, const LoadOptions& options = {});
+
+enum class PcdEncoding { kAscii, kBinary, kBinaryCompressed };
+
+// Writes a scan as RoSi native PCD (FIELDS x y z intensity alpha beta range; organised scans as
+// WIDTH = points per line, HEIGHT = lines; no returns as NaN). The file appears atomically: it is
+// written beside the target and renamed over it. Throws ScanError on failure.
+void saveRosiPcd(const Scan& scan, const std::filesystem::path& file,
+                 PcdEncoding encoding = PcdEncoding::kBinaryCompressed);
+
+}  // namespace clearway

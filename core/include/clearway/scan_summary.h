@@ -1,0 +1,39 @@
+#pragma once
+
+// What `clearway-cli info` and the GUI's scan panel tell about a scan.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include "clearway/scan.h"
+
+namespace clearway {
+
+struct ScanSummary {
+  std::string file;
+  std::string format;
+  std::string frame;
+  std::size_t points = 0;        // records in the file
+  std::size_t valid_points = 0;  // real returns
+  std::size_t no_return = 0;
+  std::size_t max_range = 0;
+  std::size_t self_hits = 0;
+  std::size_t scan_lines = 0;
+  std::size_t points_per_line = 0;  // when organised; else the longest line
+  std::size_t shortest_line = 0;
+  bool organised = false;
+  bool has_intensity = false;
+  bool has_beta = false;
+  Bounds bounds;
+  std::optional<SensorPose> sensor_pose;
+};
+
+ScanSummary summarise(const Scan& scan);
+
+// Human-readable, one fact per line.
+std::string toText(const ScanSummary& summary);
+// One JSON object; keys as in docs/FORMATS.md.
+std::string toJson(const ScanSummary& summary);
+
+}  // namespace clearway

@@ -1,0 +1,89 @@
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <fstream>
+#include <numbers>
+
+#include "clearway/io/scan_io.h"
+#include "clearway/io/scan_lines.h"
+#include "readers.h"
+
+namespace clearway {
+namespace detail {
+
+std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,
+                           std::uintmax_t& file_size) {
+  std::error_code error;
+  if (!std::filesystem::exists(file, error)) throw ScanError(file, "no such file");
+  if (std::filesystem::is_directory(file, error))
+    throw ScanError(file, "is a directory, not a scan file");
+  file_size = std::filesystem::file_size(file, error);
+  if (error) throw ScanError(file, "cannot read its size: " + error.message());
+  if (file_size == 0) throw ScanError(file, "empty file");
+  std::ifstream stream(file, std::ios::binary);
+  if (!stream) throw ScanError(file, "cannot open for reading (permissions?)");
+  std::string prefix(std::min<std::uintmax_t>(max_bytes, file_size), '\0');
+  stream.read(prefix.data(), static_cast<std::streamsize>(prefix.size()));
+  prefix.resize(static_cast<std::size_t>(stream.gcount()));
+  return prefix;
+}
+
+void appendPoint(Scan& scan, float x, float y, float z) {
+  scan.points.push_back({x, y, z});
+  const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
+  scan.status.push_back(finite ? PointStatus::kValid : PointStatus::kNoReturn);
+}
+
+}  // namespace detail
+
+ScanFormat formatFromPath(const std::filesystem::path& file) {
+  std::string extension = file.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (extension == ".pcd") return ScanFormat::kPcd;
+  if (extension == ".ply") return ScanFormat::kPly;
+  if (extension == ".xyz" || extension == ".txt" || extension == ".dat" || extension == ".asc")
+    return ScanFormat::kXyz;
+  if (extension == ".bin") return ScanFormat::kKittiBin;
+  if (extension == ".3d") return ScanFormat::kUos;
+  throw ScanError(file, "unknown extension '" + extension +
+                            "' (known: .pcd .ply .xyz .txt .dat .asc .bin .3d)");
+}
+
+std::string formatName(ScanFormat format) {
+  switch (format) {
+    case ScanFormat::kPcd: return "pcd";
+    case ScanFormat::kPly: return "ply";
+    case ScanFormat::kXyz: return "xyz";
+    case ScanFormat::kKittiBin: return "kitti bin";
+    case ScanFormat::kUos: return "3dtk uos";
+  }
+  return "unknown";
+}
+
+Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
+  const ScanFormat format = formatFromPath(file);
+  reportProgress(options.progress, 0.0);
+  Scan scan;
+  switch (format) {
+    case ScanFormat::kPcd: scan = detail::readPcd(file, options); break;
+    case ScanFormat::kPly: scan = detail::readPly(file, options); break;
+    case ScanFormat::kXyz: scan = detail::readXyz(file, options); break;
+    case ScanFormat::kKittiBin: scan = detail::readKittiBin(file, options); break;
+    case ScanFormat::kUos: scan = detail::readUos(file, options); break;
+  }
+  if (scan.empty()) throw ScanError(file, "empty cloud: no points");
+  scan.metadata.source_path = file.string();
+
+  if (format == ScanFormat::kUos) markSaturatedRange(scan);
+  markSelfHits(scan, options.self_hit_radius);
+  if (scan.validCount() == 0)
+    throw ScanError(file, "no valid points: all " + std::to_string(scan.size()) +
+                              " are no-returns or self hits");
+  if (scan.lines.empty()) reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
+  checkScanInvariants(scan);
+  reportProgress(options.progress, 1.0);
+  return scan;
+}
+
+}  // namespace clearway

@@ -1,0 +1,163 @@
+#include "pcd_header.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cstring>
+#include <sstream>
+
+#include "clearway/io/scan_error.h"
+
+namespace clearway::pcd {
+namespace {
+
+std::vector<std::string> splitWords(std::string_view line) {
+  std::vector<std::string> words;
+  std::istringstream stream{std::string(line)};
+  for (std::string word; stream >> word;) words.push_back(word);
+  return words;
+}
+
+std::uint64_t parseCount(const std::filesystem::path& file, const std::string& key,
+                         const std::string& text) {
+  std::uint64_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size())
+    throw ScanError(file, "PCD header: " + key + " '" + text + "' is not a whole number");
+  return value;
+}
+
+std::uint32_t readLittleEndian32(std::string_view bytes, std::size_t offset) {
+  std::uint32_t value = 0;
+  std::memcpy(&value, bytes.data() + offset, sizeof value);
+  return value;
+}
+
+void checkBodySize(const std::filesystem::path& file, std::string_view prefix,
+                   std::uint64_t file_size, const Header& header) {
+  const std::uint64_t body = file_size - header.data_offset;
+  const std::uint64_t expected = header.points * header.pointSize();
+  if (header.encoding == Encoding::kBinary && body < expected)
+    throw ScanError(file, "truncated: header promises " + std::to_string(header.points) +
+                              " points (" + std::to_string(expected) + " bytes) but only " +
+                              std::to_string(body) + " bytes follow");
+  if (header.encoding == Encoding::kBinaryCompressed) {
+    if (body < 8 || prefix.size() < header.data_offset + 8)
+      throw ScanError(file, "truncated: compressed data has no size fields");
+    const std::uint64_t compressed = readLittleEndian32(prefix, header.data_offset);
+    const std::uint64_t uncompressed = readLittleEndian32(prefix, header.data_offset + 4);
+    if (uncompressed != expected)
+      throw ScanError(file, "corrupt: compressed data unpacks to " + std::to_string(uncompressed) +
+                                " bytes, the header needs " + std::to_string(expected));
+    if (body - 8 < compressed)
+      throw ScanError(file, "truncated: " + std::to_string(compressed) +
+                                " compressed bytes promised, " + std::to_string(body - 8) +
+                                " present");
+  }
+  if (header.encoding == Encoding::kAscii && body == 0)
+    throw ScanError(file, "truncated: no point data after the header");
+}
+
+}  // namespace
+
+std::size_t Header::pointSize() const {
+  std::size_t total = 0;
+  for (const Field& field : fields) total += std::size_t(field.size) * std::size_t(field.count);
+  return total;
+}
+
+int Header::fieldIndex(std::string_view name) const {
+  for (std::size_t i = 0; i < fields.size(); ++i)
+    if (fields[i].name == name) return static_cast<int>(i);
+  return -1;
+}
+
+Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
+                   std::uint64_t file_size, std::uint64_t max_points) {
+  Header header;
+  std::vector<std::string> sizes, types, counts;
+  bool has_points = false;
+  bool has_data = false;
+  std::size_t position = 0;
+  const std::string_view bytes = prefix;
+  while (!has_data) {
+    if (position >= bytes.size())
+      throw ScanError(file, "not a PCD file: no DATA line in the header");
+    std::size_t end = bytes.find('\n', position);
+    if (end == std::string_view::npos) end = bytes.size();
+    const std::string_view line = bytes.substr(position, end - position);
+    position = std::min(end + 1, bytes.size());
+    const std::vector<std::string> words = splitWords(line);
+    if (words.empty() || words[0].starts_with('#')) continue;
+    const std::string& key = words[0];
+    const std::vector<std::string> values(words.begin() + 1, words.end());
+    if (key == "VERSION") {
+    } else if (key == "FIELDS") {
+      for (const std::string& name : values) header.fields.push_back({name});
+    } else if (key == "SIZE") {
+      sizes = values;
+    } else if (key == "TYPE") {
+      types = values;
+    } else if (key == "COUNT") {
+      counts = values;
+    } else if (key == "WIDTH" && values.size() == 1) {
+      header.width = parseCount(file, key, values[0]);
+    } else if (key == "HEIGHT" && values.size() == 1) {
+      header.height = parseCount(file, key, values[0]);
+    } else if (key == "POINTS" && values.size() == 1) {
+      header.points = parseCount(file, key, values[0]);
+      has_points = true;
+    } else if (key == "VIEWPOINT" && values.size() == 7) {
+      for (std::size_t i = 0; i < 7; ++i) header.viewpoint[i] = std::strtod(values[i].c_str(), nullptr);
+    } else if (key == "DATA" && values.size() == 1) {
+      if (values[0] == "ascii") header.encoding = Encoding::kAscii;
+      else if (values[0] == "binary") header.encoding = Encoding::kBinary;
+      else if (values[0] == "binary_compressed") header.encoding = Encoding::kBinaryCompressed;
+      else throw ScanError(file, "PCD header: unknown DATA encoding '" + values[0] + "'");
+      has_data = true;
+    } else {
+      throw ScanError(file, "not a PCD file: unexpected header line '" +
+                                std::string(line.substr(0, 60)) + "'");
+    }
+  }
+  header.data_offset = position;
+
+  const std::size_t field_count = header.fields.size();
+  if (field_count == 0) throw ScanError(file, "PCD header: no FIELDS");
+  if (sizes.size() != field_count || types.size() != field_count ||
+      (!counts.empty() && counts.size() != field_count))
+    throw ScanError(file, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree in length");
+  for (std::size_t i = 0; i < field_count; ++i) {
+    Field& field = header.fields[i];
+    field.size = static_cast<int>(parseCount(file, "SIZE", sizes[i]));
+    if (types[i].size() != 1 || std::string_view("FIU").find(types[i][0]) == std::string_view::npos)
+      throw ScanError(file, "PCD header: TYPE '" + types[i] + "' is not F, I or U");
+    field.type = types[i][0];
+    field.count = counts.empty() ? 1 : static_cast<int>(parseCount(file, "COUNT", counts[i]));
+    const bool size_ok = field.type == 'F' ? (field.size == 4 || field.size == 8)
+                                           : (field.size == 1 || field.size == 2 ||
+                                              field.size == 4 || field.size == 8);
+    if (!size_ok || field.count < 1 || field.count > 4096)
+      throw ScanError(file, "PCD header: field '" + field.name + "' has an unsupported size/count");
+  }
+  for (const char* axis : {"x", "y", "z"}) {
+    const int index = header.fieldIndex(axis);
+    if (index < 0) throw ScanError(file, std::string("PCD has no '") + axis + "' field");
+    if (header.fields[std::size_t(index)].type != 'F')
+      throw ScanError(file, std::string("PCD field '") + axis + "' is not floating point");
+  }
+  if (header.width == 0 || header.height == 0)
+    throw ScanError(file, "empty cloud: WIDTH or HEIGHT is 0");
+  if (header.width > max_points || header.height > max_points ||
+      header.width * header.height > max_points)
+    throw ScanError(file, "header claims " + std::to_string(header.width) + " x " +
+                              std::to_string(header.height) + " points, more than the limit of " +
+                              std::to_string(max_points));
+  if (!has_points) header.points = header.width * header.height;
+  if (header.points != header.width * header.height)
+    throw ScanError(file, "PCD header: POINTS " + std::to_string(header.points) +
+                              " is not WIDTH x HEIGHT");
+  checkBodySize(file, prefix, file_size, header);
+  return header;
+}
+
+}  // namespace clearway::pcd

@@ -1,0 +1,225 @@
+// PLY vertices (ascii, binary little/big endian). Our own reader rather than PCL's: we need the
+// element counts checked against the file's size before anything is allocated, and only the vertex
+// element matters to a scan.
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <sstream>
+
+#include "ascii_rows.h"
+#include "clearway/io/file_util.h"
+#include "readers.h"
+
+namespace clearway::detail {
+namespace {
+
+enum class PlyFormat { kAscii, kBinaryLittle, kBinaryBig };
+
+struct PlyProperty {
+  std::string name;
+  std::string type;  // char uchar short ushort int uint float double (and int8... aliases)
+  bool is_list = false;
+  int size = 0;  // bytes of one scalar
+};
+
+struct PlyElement {
+  std::string name;
+  std::uint64_t count = 0;
+  std::vector<PlyProperty> properties;
+  std::size_t recordSize() const {
+    std::size_t size = 0;
+    for (const PlyProperty& property : properties) size += std::size_t(property.size);
+    return size;
+  }
+};
+
+int scalarSize(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" ||
+      type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+double readScalar(const char* at, const std::string& type, bool swap) {
+  char buffer[8];
+  const int size = scalarSize(type);
+  std::memcpy(buffer, at, std::size_t(size));
+  if (swap) std::reverse(buffer, buffer + size);
+  auto as = [&buffer]<typename T>(T) {
+    T value;
+    std::memcpy(&value, buffer, sizeof(T));
+    return static_cast<double>(value);
+  };
+  if (type == "char" || type == "int8") return as(std::int8_t{});
+  if (type == "uchar" || type == "uint8") return as(std::uint8_t{});
+  if (type == "short" || type == "int16") return as(std::int16_t{});
+  if (type == "ushort" || type == "uint16") return as(std::uint16_t{});
+  if (type == "int" || type == "int32") return as(std::int32_t{});
+  if (type == "uint" || type == "uint32") return as(std::uint32_t{});
+  if (type == "float" || type == "float32") return as(float{});
+  return as(double{});
+}
+
+struct PlyHeader {
+  PlyFormat format = PlyFormat::kAscii;
+  std::vector<PlyElement> elements;
+  std::size_t body_offset = 0;
+};
+
+PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& bytes) {
+  if (!bytes.starts_with("ply")) throw ScanError(file, "not a PLY file: it does not start with 'ply'");
+  PlyHeader header;
+  bool has_format = false;
+  std::size_t position = 0;
+  while (true) {
+    const std::size_t end = bytes.find('\n', position);
+    if (end == std::string::npos || end > 1'000'000)
+      throw ScanError(file, "not a PLY file: no end_header");
+    std::istringstream line(bytes.substr(position, end - position));
+    position = end + 1;
+    std::string keyword;
+    line >> keyword;
+    if (keyword == "end_header") break;
+    if (keyword == "format") {
+      std::string name;
+      line >> name;
+      if (name == "ascii") header.format = PlyFormat::kAscii;
+      else if (name == "binary_little_endian") header.format = PlyFormat::kBinaryLittle;
+      else if (name == "binary_big_endian") header.format = PlyFormat::kBinaryBig;
+      else throw ScanError(file, "PLY: unknown format '" + name + "'");
+      has_format = true;
+    } else if (keyword == "element") {
+      PlyElement element;
+      if (!(line >> element.name >> element.count))
+        throw ScanError(file, "PLY: malformed element line");
+      header.elements.push_back(element);
+    } else if (keyword == "property") {
+      if (header.elements.empty()) throw ScanError(file, "PLY: property before any element");
+      PlyProperty property;
+      line >> property.type;
+      if (property.type == "list") {
+        std::string count_type;
+        line >> count_type >> property.type;
+        property.is_list = true;
+      }
+      line >> property.name;
+      property.size = scalarSize(property.type);
+      if (property.size == 0) throw ScanError(file, "PLY: unknown property type '" + property.type + "'");
+      header.elements.back().properties.push_back(property);
+    }
+    // comment, obj_info and ply itself carry nothing we need.
+  }
+  if (!has_format) throw ScanError(file, "PLY: no format line");
+  header.body_offset = position;
+  return header;
+}
+
+int propertyIndex(const PlyElement& element, std::initializer_list<const char*> names) {
+  for (const char* name : names)
+    for (std::size_t i = 0; i < element.properties.size(); ++i)
+      if (element.properties[i].name == name && !element.properties[i].is_list) return int(i);
+  return -1;
+}
+
+}  // namespace
+
+Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
+  const std::string bytes = readWholeFile(file, 8ULL << 30);
+  const PlyHeader header = parsePlyHeader(file, bytes);
+  const auto vertex_it = std::find_if(header.elements.begin(), header.elements.end(),
+                                      [](const PlyElement& e) { return e.name == "vertex"; });
+  if (vertex_it == header.elements.end()) throw ScanError(file, "PLY has no vertex element");
+  const PlyElement& vertex = *vertex_it;
+  if (vertex.count == 0) throw ScanError(file, "empty cloud: PLY has 0 vertices");
+  if (vertex.count > options.max_points)
+    throw ScanError(file, "header claims " + std::to_string(vertex.count) +
+                              " vertices, more than the limit of " +
+                              std::to_string(options.max_points));
+  const int ix = propertyIndex(vertex, {"x"});
+  const int iy = propertyIndex(vertex, {"y"});
+  const int iz = propertyIndex(vertex, {"z"});
+  if (ix < 0 || iy < 0 || iz < 0) throw ScanError(file, "PLY vertices have no x, y, z");
+  const int ii = propertyIndex(vertex, {"intensity", "scalar_intensity", "remission", "reflectance"});
+
+  Scan scan;
+  if (ii >= 0) scan.intensity.reserve(vertex.count);
+  if (header.format == PlyFormat::kAscii) {
+    // Vertices come first in every PLY we meet; a scan with faces before vertices is not one.
+    if (&vertex != &header.elements.front())
+      throw ScanError(file, "PLY: elements before the vertices are not supported in ascii files");
+    if (vertex.properties.size() > 4 || ix > 3 || iy > 3 || iz > 3 || ii > 3) {
+      // Rows with many columns: read them the slow, general way.
+      std::istringstream body(bytes.substr(header.body_offset));
+      std::vector<double> row(vertex.properties.size());
+      for (std::uint64_t v = 0; v < vertex.count; ++v) {
+        for (double& value : row)
+          if (!(body >> value))
+            throw ScanError(file, "truncated: vertex " + std::to_string(v) + " of " +
+                                      std::to_string(vertex.count) + " is missing or malformed");
+        appendPoint(scan, float(row[std::size_t(ix)]), float(row[std::size_t(iy)]),
+                    float(row[std::size_t(iz)]));
+        if (ii >= 0) scan.intensity.push_back(float(row[std::size_t(ii)]));
+      }
+    } else {
+      std::string_view body(bytes);
+      body.remove_prefix(header.body_offset);
+      std::uint64_t read = 0;
+      parseNumberRows(
+          file, body, vertex.properties.size(),
+          [&](const std::array<double, 4>& v, std::size_t) {
+            if (read++ >= vertex.count) return;  // face rows follow the vertices
+            appendPoint(scan, float(v[std::size_t(ix)]), float(v[std::size_t(iy)]),
+                        float(v[std::size_t(iz)]));
+            if (ii >= 0) scan.intensity.push_back(float(v[std::size_t(ii)]));
+          },
+          options.progress);
+      if (read < vertex.count)
+        throw ScanError(file, "truncated: " + std::to_string(read) + " of " +
+                                  std::to_string(vertex.count) + " vertices present");
+    }
+  } else {
+    std::size_t offset = header.body_offset;
+    for (const PlyElement& element : header.elements) {
+      if (&element == &vertex) break;
+      const bool has_list = std::any_of(element.properties.begin(), element.properties.end(),
+                                        [](const PlyProperty& p) { return p.is_list; });
+      if (has_list)
+        throw ScanError(file, "PLY: list elements before the vertices are not supported");
+      offset += element.recordSize() * element.count;
+    }
+    const std::size_t record = vertex.recordSize();
+    const bool has_list = std::any_of(vertex.properties.begin(), vertex.properties.end(),
+                                      [](const PlyProperty& p) { return p.is_list; });
+    if (has_list) throw ScanError(file, "PLY: list properties on vertices are not supported");
+    if (offset > bytes.size() || (bytes.size() - offset) / record < vertex.count)
+      throw ScanError(file, "truncated: " + std::to_string(vertex.count) + " vertices of " +
+                                std::to_string(record) + " bytes do not fit in the file");
+    std::vector<std::size_t> property_offsets;
+    std::size_t running = 0;
+    for (const PlyProperty& property : vertex.properties) {
+      property_offsets.push_back(running);
+      running += std::size_t(property.size);
+    }
+    const bool swap = (header.format == PlyFormat::kBinaryBig) != (std::endian::native == std::endian::big);
+    scan.points.reserve(vertex.count);
+    scan.status.reserve(vertex.count);
+    auto value = [&](const char* at, int index) {
+      const PlyProperty& property = vertex.properties[std::size_t(index)];
+      return readScalar(at + property_offsets[std::size_t(index)], property.type, swap);
+    };
+    for (std::uint64_t v = 0; v < vertex.count; ++v) {
+      const char* at = bytes.data() + offset + v * record;
+      appendPoint(scan, float(value(at, ix)), float(value(at, iy)), float(value(at, iz)));
+      if (ii >= 0) scan.intensity.push_back(float(value(at, ii)));
+    }
+  }
+  scan.metadata.format = header.format == PlyFormat::kAscii ? "ply ascii" : "ply binary";
+  scan.metadata.frame = "as stored: metres";
+  return scan;
+}
+
+}  // namespace clearway::detail

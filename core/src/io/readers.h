@@ -1,0 +1,27 @@
+#pragma once
+
+// One reader per format; loadScan() picks one by extension and finishes the scan (self hits,
+// line reconstruction, invariants). Readers fill points/status/intensity/alpha, and lines only when
+// the file itself knows them.
+
+#include <filesystem>
+#include <string>
+
+#include "clearway/io/scan_io.h"
+
+namespace clearway::detail {
+
+Scan readPcd(const std::filesystem::path& file, const LoadOptions& options);
+Scan readPly(const std::filesystem::path& file, const LoadOptions& options);
+Scan readXyz(const std::filesystem::path& file, const LoadOptions& options);
+Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options);
+Scan readUos(const std::filesystem::path& file, const LoadOptions& options);
+
+// Reads at most `max_bytes` from the start of a file (for headers) and reports the file's size.
+std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,
+                           std::uintmax_t& file_size);
+
+// Adds a point, marking it kNoReturn when a coordinate is not finite.
+void appendPoint(Scan& scan, float x, float y, float z);
+
+}  // namespace clearway::detail

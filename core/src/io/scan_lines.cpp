@@ -1,0 +1,121 @@
+#include "clearway/io/scan_lines.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace clearway {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double wrapAngle(double angle) {
+  while (angle > kPi) angle -= 2.0 * kPi;
+  while (angle < -kPi) angle += 2.0 * kPi;
+  return angle;
+}
+
+struct Direction {
+  double azimuth;
+  double elevation;
+};
+
+Direction directionOf(const Point3f& p) {
+  const double horizontal = std::hypot(double(p.x), double(p.y));
+  return {std::atan2(double(p.y), double(p.x)), std::atan2(double(p.z), horizontal)};
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// A step is "normal" along a line; a jump this large in any direction is never within one line.
+constexpr double kHalfTurnJump = 150.0 * kPi / 180.0;
+
+}  // namespace
+
+void reconstructScanLines(Scan& scan, double break_angle_rad) {
+  scan.lines.clear();
+  if (scan.empty()) return;
+
+  // Steps in azimuth and elevation between consecutive points that have a direction. Self hits
+  // and saturated ranges do: the beam still went that way. Only no-returns and points at the
+  // origin itself carry none.
+  std::vector<std::size_t> valid_indices;
+  valid_indices.reserve(scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Point3f& p = scan.points[i];
+    const double range_squared = double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z;
+    if (scan.status[i] != PointStatus::kNoReturn && range_squared > 1e-6)
+      valid_indices.push_back(i);
+  }
+
+  std::vector<double> azimuth_steps;
+  std::vector<double> elevation_steps;
+  azimuth_steps.reserve(valid_indices.size());
+  elevation_steps.reserve(valid_indices.size());
+  std::vector<Direction> directions(valid_indices.size());
+  for (std::size_t k = 0; k < valid_indices.size(); ++k) {
+    directions[k] = directionOf(scan.points[valid_indices[k]]);
+    if (k == 0) continue;
+    azimuth_steps.push_back(wrapAngle(directions[k].azimuth - directions[k - 1].azimuth));
+    elevation_steps.push_back(directions[k].elevation - directions[k - 1].elevation);
+  }
+
+  auto absolute = [](std::vector<double> steps) {
+    for (double& step : steps) step = std::abs(step);
+    return steps;
+  };
+  const double azimuth_motion = median(absolute(azimuth_steps));
+  const double elevation_motion = median(absolute(elevation_steps));
+  const bool along_elevation = elevation_motion > azimuth_motion;
+  const std::vector<double>& steps = along_elevation ? elevation_steps : azimuth_steps;
+  const double typical_step = median(steps);
+
+  if (valid_indices.size() < 3 || typical_step == 0.0) {
+    scan.lines.push_back({0, scan.size()});
+    return;
+  }
+  const double forward = typical_step > 0.0 ? 1.0 : -1.0;
+
+  std::size_t line_start = 0;
+  for (std::size_t k = 1; k < valid_indices.size(); ++k) {
+    const double step = steps[k - 1] * forward;
+    const bool jumps_back = step < -break_angle_rad || std::abs(step) > kHalfTurnJump;
+    if (!jumps_back) continue;
+    // No-returns between the two points cannot tell which line they belong to; they open the
+    // new line, as scanners that report every beam start a line with the first beam.
+    const std::size_t split = std::max(valid_indices[k - 1] + 1, line_start + 1);
+    scan.lines.push_back({line_start, split - line_start});
+    line_start = split;
+  }
+  scan.lines.push_back({line_start, scan.size() - line_start});
+}
+
+std::size_t markSaturatedRange(Scan& scan, double min_fraction) {
+  std::vector<double> ranges(scan.size(), 0.0);
+  double largest = 0.0;
+  std::size_t valid = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    const Point3f& p = scan.points[i];
+    ranges[i] = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+    largest = std::max(largest, ranges[i]);
+    ++valid;
+  }
+  if (valid == 0) return 0;
+  const double threshold = largest * 0.995;
+  std::size_t saturated = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (scan.isValid(i) && ranges[i] >= threshold) ++saturated;
+  if (double(saturated) < min_fraction * double(valid)) return 0;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (scan.isValid(i) && ranges[i] >= threshold) scan.status[i] = PointStatus::kMaxRange;
+  return saturated;
+}
+
+}  // namespace clearway
