@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
 
   clearway::ui::MainWindow window;
   window.show();
-  if (!parser.positionalArguments().isEmpty()) window.openScan(parser.positionalArguments().first());
+  if (!parser.positionalArguments().isEmpty())
+    window.openScan(parser.positionalArguments().first());
   return QApplication::exec();
 }

@@ -20,7 +20,8 @@ bool Scan::isOrganised() const {
 
 std::size_t Scan::pointsPerLine() const {
   std::size_t longest = 0;
-  for (const ScanLine& line : lines) longest = std::max(longest, line.count);
+  for (const ScanLine& line : lines)
+    longest = std::max(longest, line.count);
   return longest;
 }
 
@@ -54,8 +55,9 @@ void checkScanInvariants(const Scan& scan) {
     if (line.first != next) throw std::logic_error("scan: lines do not cover the points in order");
     next += line.count;
   }
-  if (next != n) throw std::logic_error("scan: lines cover " + std::to_string(next) + " of " +
-                                        std::to_string(n) + " points");
+  if (next != n)
+    throw std::logic_error("scan: lines cover " + std::to_string(next) + " of " +
+                           std::to_string(n) + " points");
   for (std::size_t i = 0; i < n; ++i) {
     const Point3f& p = scan.points[i];
     if (scan.isValid(i) && !(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))

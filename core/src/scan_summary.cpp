@@ -16,16 +16,25 @@ ScanSummary summarise(const Scan& scan) {
   summary.points = scan.size();
   for (PointStatus status : scan.status) {
     switch (status) {
-      case PointStatus::kValid: ++summary.valid_points; break;
-      case PointStatus::kNoReturn: ++summary.no_return; break;
-      case PointStatus::kMaxRange: ++summary.max_range; break;
-      case PointStatus::kSelfHit: ++summary.self_hits; break;
+      case PointStatus::kValid:
+        ++summary.valid_points;
+        break;
+      case PointStatus::kNoReturn:
+        ++summary.no_return;
+        break;
+      case PointStatus::kMaxRange:
+        ++summary.max_range;
+        break;
+      case PointStatus::kSelfHit:
+        ++summary.self_hits;
+        break;
     }
   }
   summary.scan_lines = scan.lines.size();
   summary.points_per_line = scan.pointsPerLine();
   summary.shortest_line = scan.lines.empty() ? 0 : scan.lines.front().count;
-  for (const ScanLine& line : scan.lines) summary.shortest_line = std::min(summary.shortest_line, line.count);
+  for (const ScanLine& line : scan.lines)
+    summary.shortest_line = std::min(summary.shortest_line, line.count);
   summary.organised = scan.isOrganised();
   summary.has_intensity = !scan.intensity.empty();
   summary.has_beta = std::any_of(scan.lines.begin(), scan.lines.end(),
@@ -46,7 +55,9 @@ std::string toText(const ScanSummary& s) {
       << s.max_range << ", self hits " << s.self_hits << ")\n"
       << "scan_lines:      " << s.scan_lines << '\n'
       << "points_per_line: " << s.points_per_line
-      << (s.organised ? "" : "  (longest; lines differ, shortest " + std::to_string(s.shortest_line) + ")")
+      << (s.organised
+              ? ""
+              : "  (longest; lines differ, shortest " + std::to_string(s.shortest_line) + ")")
       << '\n'
       << "organised:       " << (s.organised ? "yes" : "no") << '\n'
       << "intensity:       " << (s.has_intensity ? "yes" : "no") << '\n'
@@ -68,7 +79,8 @@ std::string toJson(const ScanSummary& s) {
   json["frame"] = s.frame;
   json["points"] = s.points;
   json["valid_points"] = s.valid_points;
-  json["invalid"] = {{"no_return", s.no_return}, {"max_range", s.max_range}, {"self_hit", s.self_hits}};
+  json["invalid"] = {
+      {"no_return", s.no_return}, {"max_range", s.max_range}, {"self_hit", s.self_hits}};
   json["scan_lines"] = s.scan_lines;
   json["points_per_line"] = s.points_per_line;
   json["shortest_line"] = s.shortest_line;

@@ -33,11 +33,16 @@ void ScannerDevice::cancelScan() {
 
 QString ScannerDevice::stateName(State state) {
   switch (state) {
-    case State::kDisconnected: return tr("disconnected");
-    case State::kConnecting: return tr("connecting");
-    case State::kIdle: return tr("ready");
-    case State::kScanning: return tr("scanning");
-    case State::kFailed: return tr("failed");
+    case State::kDisconnected:
+      return tr("disconnected");
+    case State::kConnecting:
+      return tr("connecting");
+    case State::kIdle:
+      return tr("ready");
+    case State::kScanning:
+      return tr("scanning");
+    case State::kFailed:
+      return tr("failed");
   }
   return {};
 }

@@ -55,7 +55,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   });
 }
 
-MainWindow::~MainWindow() { d_->load_watcher.waitForFinished(); }
+MainWindow::~MainWindow() {
+  d_->load_watcher.waitForFinished();
+}
 
 void MainWindow::openScan(const QString& path) {
   statusBar()->showMessage(tr("Loading %1 …").arg(QFileInfo(path).fileName()));

@@ -24,16 +24,22 @@ std::string readAsciiScan(const std::filesystem::path& file, const LoadOptions& 
 }
 
 // 3DTK angles are degrees; its rotation is R = Rx(rx) * Ry(ry) * Rz(rz) applied in its left-handed
-// frame. Clearway's frame is c = C * u with C mapping (x, y, z)_uos to (z, -x, y); the same rotation
-// seen from our frame is C * R * C^T.
+// frame. Clearway's frame is c = C * u with C mapping (x, y, z)_uos to (z, -x, y); the same
+// rotation seen from our frame is C * R * C^T.
 SensorPose uosPoseToClearway(const std::array<double, 6>& uos) {
   const double to_rad = std::numbers::pi / 180.0;
   const double a = uos[3] * to_rad, b = uos[4] * to_rad, c = uos[5] * to_rad;
   const double sa = std::sin(a), ca = std::cos(a), sb = std::sin(b), cb = std::cos(b);
   const double sc = std::sin(c), cc = std::cos(c);
-  const double r[9] = {cb * cc,                 -cb * sc,                sb,
-                       sa * sb * cc + ca * sc,  -sa * sb * sc + ca * cc, -sa * cb,
-                       -ca * sb * cc + sa * sc, ca * sb * sc + sa * cc,  ca * cb};
+  const double r[9] = {cb * cc,
+                       -cb * sc,
+                       sb,
+                       sa * sb * cc + ca * sc,
+                       -sa * sb * sc + ca * cc,
+                       -sa * cb,
+                       -ca * sb * cc + sa * sc,
+                       ca * sb * sc + sa * cc,
+                       ca * cb};
   // C rows: (0,0,1), (-1,0,0), (0,1,0): C*R*C^T picks and signs entries of R.
   static constexpr int kAxis[3] = {2, 0, 1};
   static constexpr double kSign[3] = {1.0, -1.0, 1.0};
@@ -66,7 +72,8 @@ Scan readXyz(const std::filesystem::path& file, const LoadOptions& options) {
       file, text, 3,
       [&](const std::array<double, 4>& v, std::size_t columns) {
         if (scan.size() >= options.max_points)
-          throw ScanError(file, "more points than the limit of " + std::to_string(options.max_points));
+          throw ScanError(file,
+                          "more points than the limit of " + std::to_string(options.max_points));
         if (scan.empty()) has_intensity = columns >= 4;
         appendPoint(scan, float(v[0]), float(v[1]), float(v[2]));
         if (has_intensity) scan.intensity.push_back(columns >= 4 ? float(v[3]) : 0.0F);
@@ -85,7 +92,8 @@ Scan readUos(const std::filesystem::path& file, const LoadOptions& options) {
       file, text, 3,
       [&](const std::array<double, 4>& v, std::size_t columns) {
         if (scan.size() >= options.max_points)
-          throw ScanError(file, "more points than the limit of " + std::to_string(options.max_points));
+          throw ScanError(file,
+                          "more points than the limit of " + std::to_string(options.max_points));
         if (scan.empty()) has_reflectance = columns >= 4;
         // (x, y, z)_clearway = (z, -x, y)_uos / 100
         appendPoint(scan, float(v[2] / 100.0), float(-v[0] / 100.0), float(v[1] / 100.0));

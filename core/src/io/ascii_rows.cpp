@@ -8,7 +8,9 @@
 namespace clearway::detail {
 namespace {
 
-bool isSeparator(char c) { return c == ' ' || c == '\t' || c == ',' || c == '\r' || c == ';'; }
+bool isSeparator(char c) {
+  return c == ' ' || c == '\t' || c == ',' || c == '\r' || c == ';';
+}
 
 // Parses up to four numbers of one line; returns how many, or -1 for a non-numeric token.
 int parseLine(std::string_view line, std::array<double, 4>& values) {
@@ -16,7 +18,8 @@ int parseLine(std::string_view line, std::array<double, 4>& values) {
   const char* at = line.data();
   const char* end = line.data() + line.size();
   while (true) {
-    while (at < end && isSeparator(*at)) ++at;
+    while (at < end && isSeparator(*at))
+      ++at;
     if (at == end) return columns;
     double value = 0.0;
     const char* start = (*at == '+') ? at + 1 : at;

@@ -22,16 +22,17 @@ std::string readWholeFile(const fs::path& file, std::uintmax_t max_bytes) {
   if (error) throw ScanError(file, "cannot read its size: " + error.message());
   if (size == 0) throw ScanError(file, "empty file");
   if (size > max_bytes)
-    throw ScanError(file, "file of " + std::to_string(size) + " bytes is larger than the limit of " +
-                              std::to_string(max_bytes) + " bytes");
+    throw ScanError(file, "file of " + std::to_string(size) +
+                              " bytes is larger than the limit of " + std::to_string(max_bytes) +
+                              " bytes");
 
   std::ifstream stream(file, std::ios::binary);
   if (!stream) throw ScanError(file, "cannot open for reading (permissions?)");
   std::string bytes(static_cast<std::size_t>(size), '\0');
   stream.read(bytes.data(), static_cast<std::streamsize>(size));
   if (static_cast<std::uintmax_t>(stream.gcount()) != size)
-    throw ScanError(file, "read " + std::to_string(stream.gcount()) + " of " +
-                              std::to_string(size) + " bytes");
+    throw ScanError(
+        file, "read " + std::to_string(stream.gcount()) + " of " + std::to_string(size) + " bytes");
   return bytes;
 }
 

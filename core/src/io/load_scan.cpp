@@ -52,11 +52,16 @@ ScanFormat formatFromPath(const std::filesystem::path& file) {
 
 std::string formatName(ScanFormat format) {
   switch (format) {
-    case ScanFormat::kPcd: return "pcd";
-    case ScanFormat::kPly: return "ply";
-    case ScanFormat::kXyz: return "xyz";
-    case ScanFormat::kKittiBin: return "kitti bin";
-    case ScanFormat::kUos: return "3dtk uos";
+    case ScanFormat::kPcd:
+      return "pcd";
+    case ScanFormat::kPly:
+      return "ply";
+    case ScanFormat::kXyz:
+      return "xyz";
+    case ScanFormat::kKittiBin:
+      return "kitti bin";
+    case ScanFormat::kUos:
+      return "3dtk uos";
   }
   return "unknown";
 }
@@ -66,11 +71,21 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
   reportProgress(options.progress, 0.0);
   Scan scan;
   switch (format) {
-    case ScanFormat::kPcd: scan = detail::readPcd(file, options); break;
-    case ScanFormat::kPly: scan = detail::readPly(file, options); break;
-    case ScanFormat::kXyz: scan = detail::readXyz(file, options); break;
-    case ScanFormat::kKittiBin: scan = detail::readKittiBin(file, options); break;
-    case ScanFormat::kUos: scan = detail::readUos(file, options); break;
+    case ScanFormat::kPcd:
+      scan = detail::readPcd(file, options);
+      break;
+    case ScanFormat::kPly:
+      scan = detail::readPly(file, options);
+      break;
+    case ScanFormat::kXyz:
+      scan = detail::readXyz(file, options);
+      break;
+    case ScanFormat::kKittiBin:
+      scan = detail::readKittiBin(file, options);
+      break;
+    case ScanFormat::kUos:
+      scan = detail::readUos(file, options);
+      break;
   }
   if (scan.empty()) throw ScanError(file, "empty cloud: no points");
   scan.metadata.source_path = file.string();
@@ -80,7 +95,8 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
   if (scan.validCount() == 0)
     throw ScanError(file, "no valid points: all " + std::to_string(scan.size()) +
                               " are no-returns or self hits");
-  if (scan.lines.empty()) reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
+  if (scan.lines.empty())
+    reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
   checkScanInvariants(scan);
   reportProgress(options.progress, 1.0);
   return scan;

@@ -13,7 +13,8 @@ namespace {
 std::vector<std::string> splitWords(std::string_view line) {
   std::vector<std::string> words;
   std::istringstream stream{std::string(line)};
-  for (std::string word; stream >> word;) words.push_back(word);
+  for (std::string word; stream >> word;)
+    words.push_back(word);
   return words;
 }
 
@@ -61,7 +62,8 @@ void checkBodySize(const std::filesystem::path& file, std::string_view prefix,
 
 std::size_t Header::pointSize() const {
   std::size_t total = 0;
-  for (const Field& field : fields) total += std::size_t(field.size) * std::size_t(field.count);
+  for (const Field& field : fields)
+    total += std::size_t(field.size) * std::size_t(field.count);
   return total;
 }
 
@@ -92,7 +94,8 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     const std::vector<std::string> values(words.begin() + 1, words.end());
     if (key == "VERSION") {
     } else if (key == "FIELDS") {
-      for (const std::string& name : values) header.fields.push_back({name});
+      for (const std::string& name : values)
+        header.fields.push_back({name});
     } else if (key == "SIZE") {
       sizes = values;
     } else if (key == "TYPE") {
@@ -107,16 +110,21 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
       header.points = parseCount(file, key, values[0]);
       has_points = true;
     } else if (key == "VIEWPOINT" && values.size() == 7) {
-      for (std::size_t i = 0; i < 7; ++i) header.viewpoint[i] = std::strtod(values[i].c_str(), nullptr);
+      for (std::size_t i = 0; i < 7; ++i)
+        header.viewpoint[i] = std::strtod(values[i].c_str(), nullptr);
     } else if (key == "DATA" && values.size() == 1) {
-      if (values[0] == "ascii") header.encoding = Encoding::kAscii;
-      else if (values[0] == "binary") header.encoding = Encoding::kBinary;
-      else if (values[0] == "binary_compressed") header.encoding = Encoding::kBinaryCompressed;
-      else throw ScanError(file, "PCD header: unknown DATA encoding '" + values[0] + "'");
+      if (values[0] == "ascii")
+        header.encoding = Encoding::kAscii;
+      else if (values[0] == "binary")
+        header.encoding = Encoding::kBinary;
+      else if (values[0] == "binary_compressed")
+        header.encoding = Encoding::kBinaryCompressed;
+      else
+        throw ScanError(file, "PCD header: unknown DATA encoding '" + values[0] + "'");
       has_data = true;
     } else {
-      throw ScanError(file, "not a PCD file: unexpected header line '" +
-                                std::string(line.substr(0, 60)) + "'");
+      throw ScanError(
+          file, "not a PCD file: unexpected header line '" + std::string(line.substr(0, 60)) + "'");
     }
   }
   header.data_offset = position;
@@ -154,8 +162,8 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
                               std::to_string(max_points));
   if (!has_points) header.points = header.width * header.height;
   if (header.points != header.width * header.height)
-    throw ScanError(file, "PCD header: POINTS " + std::to_string(header.points) +
-                              " is not WIDTH x HEIGHT");
+    throw ScanError(
+        file, "PCD header: POINTS " + std::to_string(header.points) + " is not WIDTH x HEIGHT");
   checkBodySize(file, prefix, file_size, header);
   return header;
 }

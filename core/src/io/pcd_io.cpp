@@ -19,24 +19,36 @@ namespace {
 
 // Reads element `element` of a field at `offset` of a point record, converted to float.
 float readAsFloat(const std::uint8_t* record, const pcl::PCLPointField& field, int element) {
-  const std::uint8_t* at = record + field.offset + std::size_t(element) * pcl::getFieldSize(field.datatype);
+  const std::uint8_t* at =
+      record + field.offset + std::size_t(element) * pcl::getFieldSize(field.datatype);
   auto load = [at]<typename T>(T) {
     T value;
     std::memcpy(&value, at, sizeof(T));
     return static_cast<float>(value);
   };
   switch (field.datatype) {
-    case pcl::PCLPointField::FLOAT32: return load(float{});
-    case pcl::PCLPointField::FLOAT64: return load(double{});
-    case pcl::PCLPointField::INT8: return load(std::int8_t{});
-    case pcl::PCLPointField::UINT8: return load(std::uint8_t{});
-    case pcl::PCLPointField::INT16: return load(std::int16_t{});
-    case pcl::PCLPointField::UINT16: return load(std::uint16_t{});
-    case pcl::PCLPointField::INT32: return load(std::int32_t{});
-    case pcl::PCLPointField::UINT32: return load(std::uint32_t{});
-    case pcl::PCLPointField::INT64: return load(std::int64_t{});
-    case pcl::PCLPointField::UINT64: return load(std::uint64_t{});
-    default: return std::numeric_limits<float>::quiet_NaN();
+    case pcl::PCLPointField::FLOAT32:
+      return load(float{});
+    case pcl::PCLPointField::FLOAT64:
+      return load(double{});
+    case pcl::PCLPointField::INT8:
+      return load(std::int8_t{});
+    case pcl::PCLPointField::UINT8:
+      return load(std::uint8_t{});
+    case pcl::PCLPointField::INT16:
+      return load(std::int16_t{});
+    case pcl::PCLPointField::UINT16:
+      return load(std::uint16_t{});
+    case pcl::PCLPointField::INT32:
+      return load(std::int32_t{});
+    case pcl::PCLPointField::UINT32:
+      return load(std::uint32_t{});
+    case pcl::PCLPointField::INT64:
+      return load(std::int64_t{});
+    case pcl::PCLPointField::UINT64:
+      return load(std::uint64_t{});
+    default:
+      return std::numeric_limits<float>::quiet_NaN();
   }
 }
 

@@ -29,7 +29,8 @@ struct PlyElement {
   std::vector<PlyProperty> properties;
   std::size_t recordSize() const {
     std::size_t size = 0;
-    for (const PlyProperty& property : properties) size += std::size_t(property.size);
+    for (const PlyProperty& property : properties)
+      size += std::size_t(property.size);
     return size;
   }
 };
@@ -71,7 +72,8 @@ struct PlyHeader {
 };
 
 PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& bytes) {
-  if (!bytes.starts_with("ply")) throw ScanError(file, "not a PLY file: it does not start with 'ply'");
+  if (!bytes.starts_with("ply"))
+    throw ScanError(file, "not a PLY file: it does not start with 'ply'");
   PlyHeader header;
   bool has_format = false;
   std::size_t position = 0;
@@ -87,10 +89,14 @@ PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& b
     if (keyword == "format") {
       std::string name;
       line >> name;
-      if (name == "ascii") header.format = PlyFormat::kAscii;
-      else if (name == "binary_little_endian") header.format = PlyFormat::kBinaryLittle;
-      else if (name == "binary_big_endian") header.format = PlyFormat::kBinaryBig;
-      else throw ScanError(file, "PLY: unknown format '" + name + "'");
+      if (name == "ascii")
+        header.format = PlyFormat::kAscii;
+      else if (name == "binary_little_endian")
+        header.format = PlyFormat::kBinaryLittle;
+      else if (name == "binary_big_endian")
+        header.format = PlyFormat::kBinaryBig;
+      else
+        throw ScanError(file, "PLY: unknown format '" + name + "'");
       has_format = true;
     } else if (keyword == "element") {
       PlyElement element;
@@ -108,7 +114,8 @@ PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& b
       }
       line >> property.name;
       property.size = scalarSize(property.type);
-      if (property.size == 0) throw ScanError(file, "PLY: unknown property type '" + property.type + "'");
+      if (property.size == 0)
+        throw ScanError(file, "PLY: unknown property type '" + property.type + "'");
       header.elements.back().properties.push_back(property);
     }
     // comment, obj_info and ply itself carry nothing we need.
@@ -143,7 +150,8 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
   const int iy = propertyIndex(vertex, {"y"});
   const int iz = propertyIndex(vertex, {"z"});
   if (ix < 0 || iy < 0 || iz < 0) throw ScanError(file, "PLY vertices have no x, y, z");
-  const int ii = propertyIndex(vertex, {"intensity", "scalar_intensity", "remission", "reflectance"});
+  const int ii =
+      propertyIndex(vertex, {"intensity", "scalar_intensity", "remission", "reflectance"});
 
   Scan scan;
   if (ii >= 0) scan.intensity.reserve(vertex.count);
@@ -204,7 +212,8 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
       property_offsets.push_back(running);
       running += std::size_t(property.size);
     }
-    const bool swap = (header.format == PlyFormat::kBinaryBig) != (std::endian::native == std::endian::big);
+    const bool swap =
+        (header.format == PlyFormat::kBinaryBig) != (std::endian::native == std::endian::big);
     scan.points.reserve(vertex.count);
     scan.status.reserve(vertex.count);
     auto value = [&](const char* at, int index) {

@@ -16,7 +16,7 @@ namespace clearway {
 void reconstructScanLines(Scan& scan, double break_angle_rad);
 
 // Scanners that report "no echo" as their maximum range leave a crowd of points at exactly that
-// range. If at least `min_fraction` of the valid points lie within 0.5 % of the largest range,
+// range. If at least `min_fraction` of the valid points lie within 0.1 % of the largest range,
 // marks them kMaxRange and returns how many; otherwise marks nothing and returns 0.
 std::size_t markSaturatedRange(Scan& scan, double min_fraction = 0.005);
 

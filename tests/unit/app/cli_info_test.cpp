@@ -1,0 +1,60 @@
+// clearway-cli info as a user runs it: exit codes, the one-line error, and the JSON keys.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace clearway {
+namespace {
+
+using test::runCli;
+using test::shellQuote;
+
+TEST(CliInfo, JsonOnARealScanHasTheAgreedKeys) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, "octomap-stairs/scan.dat");
+  const auto result = runCli("info --json " + shellQuote(file.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto json = nlohmann::json::parse(result.out);
+  EXPECT_EQ(json.at("points"), 88206);
+  EXPECT_EQ(json.at("valid_points"), 88206);
+  EXPECT_EQ(json.at("scan_lines"), 491);
+  EXPECT_EQ(json.at("points_per_line"), 181);
+  EXPECT_EQ(json.at("organised"), false);
+}
+
+TEST(CliInfo, TextOutputNamesTheCounts) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, "3dtk/scan000.3d");
+  const auto result = runCli("info " + shellQuote(file.string()));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("scan_lines:      226"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("organised:       yes"), std::string::npos) << result.out;
+}
+
+TEST(CliInfo, BadFileExitsOneWithAOneLineError) {
+  test::TemporaryDirectory directory;
+  test::writeBytes(directory / "bad.pcd", "garbage\n");
+  const auto result = runCli("info " + shellQuote((directory / "bad.pcd").string()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_TRUE(result.out.empty()) << "no partial output: " << result.out;
+  EXPECT_NE(result.err.find("bad.pcd"), std::string::npos) << result.err;
+  EXPECT_EQ(std::count(result.err.begin(), result.err.end(), '\n'), 1) << result.err;
+}
+
+TEST(CliInfo, UsageMistakesExitTwo) {
+  EXPECT_EQ(runCli("info").exit_code, 2);
+  EXPECT_EQ(runCli("info --bogus x.pcd").exit_code, 2);
+  EXPECT_EQ(runCli("frobnicate").exit_code, 2);
+  EXPECT_EQ(runCli("").exit_code, 2);
+  EXPECT_EQ(runCli("info --self-hit-radius abc x.pcd").exit_code, 2);
+}
+
+TEST(CliInfo, HelpExitsZero) {
+  const auto result = runCli("--help");
+  EXPECT_EQ(result.exit_code, 0);
+  EXPECT_NE(result.out.find("info"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace clearway

@@ -1,0 +1,214 @@
+// Bad files get a ScanError whose one-line message names the file and the problem; never a crash,
+// never a partial scan.
+
+#include <gtest/gtest.h>
+
+#include <sys/stat.h>
+
+#include <cstring>
+#include <limits>
+
+#include "clearway/io/scan_io.h"
+#include "test_support.h"
+
+namespace clearway {
+namespace {
+
+// Expects loadScan(file) to throw ScanError mentioning the file and `fragment`.
+void expectScanError(const std::filesystem::path& file, const std::string& fragment,
+                     const LoadOptions& options = {}) {
+  try {
+    const Scan scan = loadScan(file, options);
+    ADD_FAILURE() << file << " loaded " << scan.size() << " points instead of failing";
+  } catch (const ScanError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+    EXPECT_NE(message.find(fragment), std::string::npos) << message;
+    EXPECT_EQ(message.find('\n'), std::string::npos) << "one line: " << message;
+  }
+}
+
+std::string pcdHeader(const std::string& data, const std::string& width, const std::string& height,
+                      const std::string& points) {
+  return "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH " +
+         width + "\nHEIGHT " + height + "\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + points + "\nDATA " +
+         data + "\n";
+}
+
+std::string floats(int count, float value) {
+  std::string bytes;
+  for (int i = 0; i < count; ++i)
+    bytes.append(reinterpret_cast<const char*>(&value), sizeof value);
+  return bytes;
+}
+
+class BadInput : public ::testing::Test {
+ protected:
+  test::TemporaryDirectory directory;
+  std::filesystem::path write(const std::string& name, const std::string& bytes) {
+    const auto file = directory / name;
+    test::writeBytes(file, bytes);
+    return file;
+  }
+};
+
+TEST_F(BadInput, MissingFile) {
+  expectScanError(directory / "nope.pcd", "no such file");
+}
+
+TEST_F(BadInput, Directory) {
+  std::filesystem::create_directory(directory / "folder.pcd");
+  expectScanError(directory / "folder.pcd", "directory");
+}
+
+TEST_F(BadInput, UnreadableFile) {
+  if (::geteuid() == 0) GTEST_SKIP() << "root reads any file; permissions cannot be tested";
+  const auto file = write("locked.xyz", "1 2 3\n");
+  ::chmod(file.c_str(), 0);
+  expectScanError(file, "cannot open");
+}
+
+TEST_F(BadInput, EmptyFile) {
+  expectScanError(write("empty.pcd", ""), "empty file");
+}
+
+TEST_F(BadInput, UnknownExtension) {
+  expectScanError(write("scan.las", "1 2 3\n"), "unknown extension");
+}
+
+TEST_F(BadInput, NotAPcd) {
+  expectScanError(write("text.pcd", "hello world\nthis is no pcd\n"), "not a PCD");
+}
+
+TEST_F(BadInput, PcdWithoutXyz) {
+  const std::string header =
+      "VERSION 0.7\nFIELDS a b\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA "
+      "ascii\n1 2\n";
+  expectScanError(write("noxyz.pcd", header), "no 'x' field");
+}
+
+TEST_F(BadInput, PcdHeaderClaimingATrillionPoints) {
+  expectScanError(write("huge.pcd", pcdHeader("binary", "1000000", "1000000", "1000000000000") +
+                                        floats(30, 1.0F)),
+                  "more than the limit");
+}
+
+TEST_F(BadInput, PcdPointsDisagreeWithWidthTimesHeight) {
+  expectScanError(write("mismatch.pcd", pcdHeader("ascii", "2", "1", "5") + "1 2 3\n4 5 6\n"),
+                  "not WIDTH x HEIGHT");
+}
+
+TEST_F(BadInput, TruncatedBinaryPcd) {
+  expectScanError(write("short.pcd", pcdHeader("binary", "100", "1", "100") + floats(150, 1.0F)),
+                  "truncated");
+}
+
+TEST_F(BadInput, TruncatedAsciiPcd) {
+  expectScanError(write("short_ascii.pcd", pcdHeader("ascii", "10", "1", "10") + "1 2 3\n4 5 6\n"),
+                  "PCD");
+}
+
+TEST_F(BadInput, TruncatedCompressedPcd) {
+  test::TemporaryDirectory scratch;
+  Scan scan;
+  for (int i = 0; i < 2000; ++i) {
+    scan.points.push_back({float(i % 37) + 1.0F, float(i % 11), float(i % 5)});
+    scan.status.push_back(PointStatus::kValid);
+  }
+  scan.lines = {{0, scan.size()}};
+  saveRosiPcd(scan, scratch / "full.pcd");
+  const std::string bytes = test::readBytes(scratch / "full.pcd");
+  // Cut the compressed block in half (PCL pads the file, so cutting its tail is not enough).
+  const std::size_t data = bytes.find("DATA binary_compressed\n") + 23;
+  std::uint32_t compressed = 0;
+  std::memcpy(&compressed, bytes.data() + data, sizeof compressed);
+  expectScanError(write("cut.pcd", bytes.substr(0, data + 8 + compressed / 2)), "truncated");
+}
+
+TEST_F(BadInput, CorruptCompressedSizes) {
+  std::string bytes = pcdHeader("binary_compressed", "10", "1", "10");
+  const std::uint32_t sizes[2] = {16, 4'000'000'000U};
+  bytes.append(reinterpret_cast<const char*>(sizes), sizeof sizes);
+  bytes.append(16, 'x');
+  expectScanError(write("corrupt.pcd", bytes), "corrupt");
+}
+
+TEST_F(BadInput, AllNaNCloud) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  expectScanError(write("nan.pcd", pcdHeader("binary", "50", "1", "50") + floats(150, nan)),
+                  "no valid points");
+  expectScanError(write("nan.xyz", "nan nan nan\nnan nan nan\n"), "no valid points");
+}
+
+TEST_F(BadInput, XyzWithGarbageLine) {
+  expectScanError(write("garbage.xyz", "1 2 3\n4 5 6\n7 eight 9\n"), "line 3");
+}
+
+TEST_F(BadInput, XyzWithTooFewColumns) {
+  expectScanError(write("short.xyz", "1 2 3\n4 5\n"), "line 2");
+}
+
+TEST_F(BadInput, BinaryBytesInATextFormat) {
+  expectScanError(write("binary.xyz", std::string("1 2 3\n\0\0\0\x01", 10)), "binary data");
+}
+
+TEST_F(BadInput, KittiFileOfBrokenLength) {
+  expectScanError(write("broken.bin", floats(4 * 10, 1.0F) + "abc"), "truncated");
+}
+
+TEST_F(BadInput, PlyWithoutEndHeader) {
+  expectScanError(write("open.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"), "no end_header");
+}
+
+TEST_F(BadInput, PlyClaimingMoreVerticesThanTheFileHolds) {
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 100000000\nproperty float x\n"
+      "property float y\nproperty float z\nend_header\n";
+  expectScanError(write("claims.ply", header + floats(30, 1.0F)), "do not fit");
+}
+
+TEST_F(BadInput, TruncatedAsciiPly) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n1 2 3\n";
+  expectScanError(write("short.ply", header), "truncated");
+}
+
+TEST_F(BadInput, MaxPointsLimitAppliesToText) {
+  LoadOptions options;
+  options.max_points = 2;
+  expectScanError(write("three.xyz", "1 2 3\n4 5 6\n7 8 9\n"), "limit", options);
+}
+
+TEST_F(BadInput, BrokenPoseFile) {
+  write("scan002.3d", "100 50 300\n");
+  write("scan002.pose", "1 2\n");
+  try {
+    loadScan(directory / "scan002.3d");
+    ADD_FAILURE() << "a broken pose file was accepted";
+  } catch (const ScanError& error) {
+    EXPECT_NE(std::string(error.what()).find("scan002.pose"), std::string::npos) << error.what();
+  }
+}
+
+TEST_F(BadInput, RandomBytesNeverCrashAnyReader) {
+  std::string noise(4096, '\0');
+  unsigned state = 12345;
+  for (char& c : noise)
+    c = char((state = state * 1103515245 + 12345) >> 16);
+  for (const char* name : {"noise.pcd", "noise.ply", "noise.xyz", "noise.3d"}) {
+    const auto file = write(name, noise);
+    EXPECT_THROW(loadScan(file), ScanError) << name;
+  }
+  // Random bytes of a whole number of records are a valid, if meaningless, KITTI file.
+  const auto kitti = write("noise.bin", noise);
+  EXPECT_NO_THROW({
+    try {
+      loadScan(kitti);
+    } catch (const ScanError&) {
+    }
+  });
+}
+
+}  // namespace
+}  // namespace clearway
