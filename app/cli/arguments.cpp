@@ -8,11 +8,13 @@ Arguments::Arguments(const std::vector<std::string>& words, const std::set<std::
                      const std::set<std::string>& options) {
   for (std::size_t i = 0; i < words.size(); ++i) {
     const std::string& word = words[i];
-    if (!word.starts_with("--") || word == "--") {
+    // Short options are single letters: -o FILE.
+    const bool is_short = word.size() == 2 && word[0] == '-' && word[1] != '-';
+    if ((!word.starts_with("--") && !is_short) || word == "--") {
       positional_.push_back(word);
       continue;
     }
-    std::string name = word.substr(2);
+    std::string name = word.substr(is_short ? 1 : 2);
     std::optional<std::string> inline_value;
     if (const auto equals = name.find('='); equals != std::string::npos) {
       inline_value = name.substr(equals + 1);

@@ -11,6 +11,7 @@
 #include "arguments.h"
 #include "clearway/io/scan_error.h"
 #include "clearway/progress.h"
+#include "clearway/sim/scene_io.h"
 #include "commands.h"
 
 namespace {
@@ -20,6 +21,12 @@ constexpr const char* kUsage =
     "\n"
     "commands:\n"
     "  info [--json] [--self-hit-radius M] FILE   describe a scan file\n"
+    "  simulate SCENE -o FILE.pcd [--lines N | --speed DEG_S] [--axis up|down|forward|side|X,Y,Z]\n"
+    "           [--tilt DEG] [--axis-roll DEG] [--position X,Y,Z] [--seed S] [--noise M]\n"
+    "           [--max-range M] [--mixed-pixels] [--door-width W] [--door-height H]\n"
+    "           [--ramp-slope DEG] [--stair-rise M] [--stair-tread M] [--encoding E]\n"
+    "                                            simulated RoSi scan + FILE.truth.json\n"
+    "  scene --list | scene NAME [-o FILE.json]  list or export the built-in scenes\n"
     "\n"
     "Formats: .pcd .ply .xyz/.txt/.dat/.asc .bin (KITTI) .3d (+ .pose, 3DTK uos).\n"
     "See README.md and docs/FORMATS.md.\n";
@@ -30,6 +37,8 @@ int main(int argc, char** argv) {
   using Command = std::function<int(const std::vector<std::string>&)>;
   const std::map<std::string, Command> commands = {
       {"info", clearway::cli::runInfo},
+      {"simulate", clearway::cli::runSimulate},
+      {"scene", clearway::cli::runScene},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;
@@ -46,6 +55,9 @@ int main(int argc, char** argv) {
     std::cerr << "clearway-cli " << argv[1] << ": " << error.what() << '\n';
     return 2;
   } catch (const clearway::ScanError& error) {
+    std::cerr << "clearway-cli: " << error.what() << '\n';
+    return 1;
+  } catch (const clearway::sim::SceneError& error) {
     std::cerr << "clearway-cli: " << error.what() << '\n';
     return 1;
   } catch (const clearway::OperationCancelled&) {

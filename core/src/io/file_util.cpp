@@ -40,8 +40,12 @@ namespace {
 
 fs::path temporarySibling(const fs::path& target) {
   std::random_device entropy;
-  const auto suffix = std::to_string(entropy()) + ".tmp";
-  return target.parent_path() / ("." + target.filename().string() + "." + suffix);
+  std::string name = ".";
+  name.append(target.filename().string())
+      .append(".")
+      .append(std::to_string(entropy()))
+      .append(".tmp");
+  return target.parent_path() / name;
 }
 
 void syncFile(const fs::path& file) {

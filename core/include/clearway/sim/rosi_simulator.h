@@ -1,0 +1,76 @@
+#pragma once
+
+// The simulated RoSi: a SICK LMS200 half line (180 beams, alpha = 0 .. 89.5 deg) turned by the
+// turntable through one revolution, observing a scene, with per-point ground truth.
+// Scanner frame (paper eq. 1-3): x = cos b cos a d, y = sin b cos a d, z = sin a d; z = turntable axis.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "clearway/point_class.h"
+#include "clearway/progress.h"
+#include "clearway/scan.h"
+#include "clearway/sim/scene.h"
+
+namespace clearway::sim {
+
+struct SensorModel {
+  int lines = 200;             // lines per revolution (LMS200: 37.5 lines/s)
+  int points_per_line = 180;   // a half line at 0.5 deg
+  double alpha_step_deg = 0.5;
+  double range_noise_sigma = 0.01;  // [m]
+  double max_range = 30.0;          // beyond it: no return [m]
+  bool mixed_pixels = false;        // average ranges across depth edges, as real beams do
+  std::uint32_t seed = 1;
+
+  static constexpr double kLineRateHz = 37.5;
+  // Lines per revolution at a turntable speed [deg/s].
+  static int linesForSpeed(double degrees_per_second);
+};
+
+// Where the scanner is and where its turntable axis points, in the scene's world frame.
+struct ScannerPlacement {
+  Eigen::Vector3d position{0.0, 0.0, 1.0};
+  Eigen::Vector3d axis{1.0, 0.0, 0.0};
+  double axis_roll_deg = 0.0;  // turns the beta = 0 direction about the axis
+
+  Eigen::Isometry3d worldFromScanner() const;
+};
+ScannerPlacement defaultPlacement(const Scene& scene);
+
+// One planar (or curved) surface of the scene that the scan saw.
+struct SurfaceTruth {
+  int id = -1;
+  std::string primitive;
+  int face = -1;
+  PointClass point_class = PointClass::kNone;
+  bool planar = true;
+  // Plane n . p = offset in the scanner frame (n unit, pointing towards the scanner side).
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double offset = 0.0;
+  std::size_t points = 0;
+};
+
+struct GroundTruth {
+  Scene scene;
+  SensorModel sensor;
+  ScannerPlacement placement;
+  std::vector<PointClass> classes;  // per scan point; kNone for no return
+  std::vector<std::int32_t> surfaces;  // per scan point; -1 for no return
+  std::vector<SurfaceTruth> seen_surfaces;
+};
+
+struct SimulatedScan {
+  Scan scan;
+  GroundTruth truth;
+};
+
+// Surface ids are primitive * 8 + face.
+inline int surfaceId(int primitive, int face) { return primitive * 8 + face; }
+
+SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
+                           const ScannerPlacement& placement, const ProgressCallback& progress = {});
+
+}  // namespace clearway::sim
