@@ -11,5 +11,6 @@ namespace clearway::cli {
 int runInfo(const std::vector<std::string>& words);
 int runSimulate(const std::vector<std::string>& words);
 int runScene(const std::vector<std::string>& words);
+int runEval(const std::vector<std::string>& words);
 
 }  // namespace clearway::cli

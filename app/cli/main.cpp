@@ -27,6 +27,8 @@ constexpr const char* kUsage =
     "           [--ramp-slope DEG] [--stair-rise M] [--stair-tread M] [--encoding E]\n"
     "                                            simulated RoSi scan + FILE.truth.json\n"
     "  scene --list | scene NAME [-o FILE.json]  list or export the built-in scenes\n"
+    "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
+    "                                            score a segment result against the truth\n"
     "\n"
     "Formats: .pcd .ply .xyz/.txt/.dat/.asc .bin (KITTI) .3d (+ .pose, 3DTK uos).\n"
     "See README.md and docs/FORMATS.md.\n";
@@ -39,6 +41,7 @@ int main(int argc, char** argv) {
       {"info", clearway::cli::runInfo},
       {"simulate", clearway::cli::runSimulate},
       {"scene", clearway::cli::runScene},
+      {"eval", clearway::cli::runEval},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;

@@ -33,8 +33,8 @@ Eigen::Vector3d parseAxis(const std::string& text) {
   return axis;
 }
 
-const std::set<std::string> kSceneOptions = {"door-width", "door-height", "ramp-slope", "stair-rise",
-                                             "stair-tread"};
+const std::set<std::string> kSceneOptions = {"door-width", "door-height", "ramp-slope",
+                                             "stair-rise", "stair-tread"};
 
 sim::Scene sceneFromArguments(const Arguments& arguments, const std::string& name_or_file) {
   sim::SceneParameters parameters;
@@ -46,8 +46,10 @@ sim::Scene sceneFromArguments(const Arguments& arguments, const std::string& nam
   if (const auto scene = sim::builtinScene(name_or_file, parameters)) return *scene;
   if (name_or_file.ends_with(".json")) return sim::loadScene(name_or_file);
   std::string names;
-  for (const auto& name : sim::builtinSceneNames()) names += " " + name;
-  throw UsageError("unknown scene '" + name_or_file + "' (built-in:" + names + ", or a .json file)");
+  for (const auto& name : sim::builtinSceneNames())
+    names += " " + name;
+  throw UsageError("unknown scene '" + name_or_file + "' (built-in:" + names +
+                   ", or a .json file)");
 }
 
 std::set<std::string> withSceneOptions(std::set<std::string> options) {
@@ -89,9 +91,12 @@ int runSimulate(const std::vector<std::string>& words) {
 
   PcdEncoding encoding = PcdEncoding::kBinaryCompressed;
   if (const auto name = arguments.option("encoding")) {
-    if (*name == "ascii") encoding = PcdEncoding::kAscii;
-    else if (*name == "binary") encoding = PcdEncoding::kBinary;
-    else if (*name != "binary_compressed") throw UsageError("--encoding is ascii, binary or binary_compressed");
+    if (*name == "ascii")
+      encoding = PcdEncoding::kAscii;
+    else if (*name == "binary")
+      encoding = PcdEncoding::kBinary;
+    else if (*name != "binary_compressed")
+      throw UsageError("--encoding is ascii, binary or binary_compressed");
   }
 
   const auto start = std::chrono::steady_clock::now();

@@ -38,8 +38,10 @@ void addWallWithDoor(Scene& scene, const std::string& name, double x, double y0,
                      double wall_height, double door_y, double width, double height) {
   constexpr double kThickness = 0.2;
   const double x0 = x, x1 = x + kThickness;
-  addBox(scene, name + "_left", PointClass::kWall, {x0, y0, 0.0}, {x1, door_y - width / 2, wall_height});
-  addBox(scene, name + "_right", PointClass::kWall, {x0, door_y + width / 2, 0.0}, {x1, y1, wall_height});
+  addBox(scene, name + "_left", PointClass::kWall, {x0, y0, 0.0},
+         {x1, door_y - width / 2, wall_height});
+  addBox(scene, name + "_right", PointClass::kWall, {x0, door_y + width / 2, 0.0},
+         {x1, y1, wall_height});
   if (height < wall_height)
     addBox(scene, name + "_lintel", PointClass::kWall, {x0, door_y - width / 2, height},
            {x1, door_y + width / 2, wall_height});
@@ -84,7 +86,8 @@ Scene hallway(const SceneParameters& p) {
   Scene scene;
   scene.name = "hallway";
   scene.description =
-      "A 3 m wide corridor; from x = 3 m a ramp (left lane) and stairs (right lane), separated by a "
+      "A 3 m wide corridor; from x = 3 m a ramp (left lane) and stairs (right lane), separated by "
+      "a "
       "wall, climb to an upper level.";
   const int steps = 6;
   const double level = steps * p.stair_rise;
@@ -100,8 +103,8 @@ Scene hallway(const SceneParameters& p) {
   const double ramp_length = std::hypot(ramp_run, level);
   ramp.size = {ramp_length, 1.45, 0.1};
   ramp.pitch_deg = -p.ramp_slope_deg;
-  ramp.center = Vector3d(3.0 + ramp_run / 2, 0.775, level / 2) +
-                ramp.rotation() * Vector3d(0.0, 0.0, -0.05);
+  ramp.center =
+      Vector3d(3.0 + ramp_run / 2, 0.775, level / 2) + ramp.rotation() * Vector3d(0.0, 0.0, -0.05);
   scene.primitives.push_back(ramp);
   addBox(scene, "upper_floor", PointClass::kGround, {3.0 + ramp_run, 0.05, 0.0}, {end, 1.5, level});
   addStairs(scene, "stairs", 3.0, -1.5, -0.05, 0.0, steps, p.stair_rise, p.stair_tread);
@@ -135,8 +138,10 @@ Scene outdoor(const SceneParameters&) {
   }
   addBox(scene, "far_ground", PointClass::kGround, {10.0, -6.0, -0.2}, {16.0, 6.0, 0.15});
   addBox(scene, "kerb", PointClass::kObstacle, {9.8, -6.0, 0.0}, {10.0, 6.0, 0.15});
-  const double rubble[][6] = {{3.0, 1.5, 0.0, 3.6, 2.1, 0.3},    {4.5, -2.5, 0.0, 5.3, -1.9, 0.5},
-                              {6.0, 2.5, 0.0, 6.4, 2.9, 0.12},   {2.0, -4.0, 0.0, 3.0, -3.2, 0.8},
+  const double rubble[][6] = {{3.0, 1.5, 0.0, 3.6, 2.1, 0.3},
+                              {4.5, -2.5, 0.0, 5.3, -1.9, 0.5},
+                              {6.0, 2.5, 0.0, 6.4, 2.9, 0.12},
+                              {2.0, -4.0, 0.0, 3.0, -3.2, 0.8},
                               {7.5, -0.2, 0.0, 7.8, 0.3, 0.08}};
   int index = 0;
   for (const auto& r : rubble)
@@ -165,16 +170,20 @@ Scene outdoor(const SceneParameters&) {
 Scene stairwell(const SceneParameters& p) {
   Scene scene;
   scene.name = "stairwell";
-  scene.description = "A stairwell (the paper's Fig. 1): a 1.4 m wide flight of 12 steps between walls, "
-                      "a landing at the top.";
+  scene.description =
+      "A stairwell (the paper's Fig. 1): a 1.4 m wide flight of 12 steps between walls, "
+      "a landing at the top.";
   const int steps = 12;
   const double top = steps * p.stair_rise;
   addBox(scene, "floor", PointClass::kGround, {-2.0, -1.5, -0.1}, {2.0, 1.5, 0.0});
   addStairs(scene, "stairs", 2.0, -0.7, 0.7, 0.0, steps, p.stair_rise, p.stair_tread);
   const double landing_x = 2.0 + steps * p.stair_tread;
-  addBox(scene, "landing", PointClass::kGround, {landing_x, -1.5, 0.0}, {landing_x + 2.0, 1.5, top});
-  addBox(scene, "left_wall", PointClass::kWall, {-2.0, 0.7, 0.0}, {landing_x + 2.0, 0.9, top + 2.5});
-  addBox(scene, "right_wall", PointClass::kWall, {-2.0, -0.9, 0.0}, {landing_x + 2.0, -0.7, top + 2.5});
+  addBox(scene, "landing", PointClass::kGround, {landing_x, -1.5, 0.0},
+         {landing_x + 2.0, 1.5, top});
+  addBox(scene, "left_wall", PointClass::kWall, {-2.0, 0.7, 0.0},
+         {landing_x + 2.0, 0.9, top + 2.5});
+  addBox(scene, "right_wall", PointClass::kWall, {-2.0, -0.9, 0.0},
+         {landing_x + 2.0, -0.7, top + 2.5});
   addBox(scene, "end_wall", PointClass::kWall, {landing_x + 2.0, -1.5, 0.0},
          {landing_x + 2.2, 1.5, top + 2.5});
   addBox(scene, "back_wall", PointClass::kWall, {-2.2, -1.5, 0.0}, {-2.0, 1.5, 3.0});
@@ -189,8 +198,9 @@ Scene stairwell(const SceneParameters& p) {
 Scene doorways(const SceneParameters&) {
   Scene scene;
   scene.name = "doorways";
-  scene.description = "A wall 4 m ahead with five doors into five rooms: widths 0.7 .. 1.3 m, "
-                      "heights 2.0 m except a 1.4 m low door.";
+  scene.description =
+      "A wall 4 m ahead with five doors into five rooms: widths 0.7 .. 1.3 m, "
+      "heights 2.0 m except a 1.4 m low door.";
   const double widths[] = {0.7, 0.85, 0.95, 1.1, 1.3};
   const double heights[] = {2.0, 2.0, 2.0, 1.4, 2.0};
   const double room_width = 2.2;
@@ -205,7 +215,8 @@ Scene doorways(const SceneParameters&) {
     addWallWithDoor(scene, "wall_" + std::to_string(k + 1), 4.0, y0, y1, 2.5, (y0 + y1) / 2,
                     widths[k], heights[k]);
     addBox(scene, room + "_back", PointClass::kWall, {8.0, y0, 0.0}, {8.2, y1, 2.5});
-    if (k > 0) addBox(scene, room + "_side", PointClass::kWall, {4.2, y0 - 0.1, 0.0}, {8.0, y0 + 0.1, 2.5});
+    if (k > 0)
+      addBox(scene, room + "_side", PointClass::kWall, {4.2, y0 - 0.1, 0.0}, {8.0, y0 + 0.1, 2.5});
     addPlace(scene, room, {6.0, (y0 + y1) / 2, 0.0});
     addPassage(scene, "door_" + std::to_string(k + 1), "corridor", room, widths[k], heights[k]);
   }
@@ -219,7 +230,8 @@ Scene doorways(const SceneParameters&) {
 Scene glass(const SceneParameters&) {
   Scene scene;
   scene.name = "glass";
-  scene.description = "A room whose front wall (x = 4 m) is glass: the laser gets no return from it.";
+  scene.description =
+      "A room whose front wall (x = 4 m) is glass: the laser gets no return from it.";
   addBox(scene, "floor", PointClass::kGround, {-3.0, -3.0, -0.1}, {4.0, 3.0, 0.0});
   addBox(scene, "outside_floor", PointClass::kGround, {4.1, -6.0, -0.1}, {10.0, 6.0, 0.0});
   auto& pane = addBox(scene, "glass_wall", PointClass::kWall, {4.0, -3.0, 0.0}, {4.05, 3.0, 2.5});
@@ -237,8 +249,9 @@ Scene glass(const SceneParameters&) {
 Scene noGround(const SceneParameters&) {
   Scene scene;
   scene.name = "no-ground";
-  scene.description = "A hall scanned with the turntable axis pointing up: only walls above the "
-                      "scanner and the ceiling are seen, never the floor.";
+  scene.description =
+      "A hall scanned with the turntable axis pointing up: only walls above the "
+      "scanner and the ceiling are seen, never the floor.";
   addBox(scene, "floor", PointClass::kGround, {-5.0, -5.0, -0.1}, {5.0, 5.0, 0.0});
   addBox(scene, "ceiling", PointClass::kCeiling, {-5.0, -5.0, 3.0}, {5.0, 5.0, 3.1});
   addBox(scene, "north_wall", PointClass::kWall, {5.0, -5.0, 0.0}, {5.2, 5.0, 3.0});
@@ -254,8 +267,9 @@ Scene noGround(const SceneParameters&) {
 using Builder = std::function<Scene(const SceneParameters&)>;
 const std::map<std::string, Builder>& builders() {
   static const std::map<std::string, Builder> kBuilders = {
-      {"garage", garage},     {"hallway", hallway}, {"outdoor", outdoor}, {"stairwell", stairwell},
-      {"doorways", doorways}, {"glass", glass},     {"no-ground", noGround}};
+      {"garage", garage},       {"hallway", hallway},   {"outdoor", outdoor},
+      {"stairwell", stairwell}, {"doorways", doorways}, {"glass", glass},
+      {"no-ground", noGround}};
   return kBuilders;
 }
 
@@ -263,7 +277,8 @@ const std::map<std::string, Builder>& builders() {
 
 std::vector<std::string> builtinSceneNames() {
   std::vector<std::string> names;
-  for (const auto& [name, builder] : builders()) names.push_back(name);
+  for (const auto& [name, builder] : builders())
+    names.push_back(name);
   return names;
 }
 

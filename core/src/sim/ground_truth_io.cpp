@@ -11,8 +11,12 @@ namespace {
 
 using nlohmann::json;
 
-json vectorJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
-Eigen::Vector3d vectorFrom(const json& v) { return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()}; }
+json vectorJson(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
+Eigen::Vector3d vectorFrom(const json& v) {
+  return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()};
+}
 
 }  // namespace
 
@@ -45,13 +49,15 @@ void saveGroundTruth(const GroundTruth& truth, const std::filesystem::path& file
   const Eigen::Matrix4d pose = truth.placement.worldFromScanner().matrix();
   std::vector<double> row_major;
   for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) row_major.push_back(pose(r, c));
+    for (int c = 0; c < 4; ++c)
+      row_major.push_back(pose(r, c));
   document["scanner"] = {{"position", vectorJson(truth.placement.position)},
                          {"axis", vectorJson(truth.placement.axis)},
                          {"axis_roll_deg", truth.placement.axis_roll_deg},
                          {"world_from_scanner", row_major}};
   json classes = json::array();
-  for (PointClass c : truth.classes) classes.push_back(int(c));
+  for (PointClass c : truth.classes)
+    classes.push_back(int(c));
   document["class_names"] = {"none", "ground", "wall", "ceiling", "obstacle", "stairs"};
   document["classes"] = classes;
   document["surfaces"] = truth.surfaces;
@@ -69,9 +75,13 @@ void saveGroundTruth(const GroundTruth& truth, const std::filesystem::path& file
   json reachable = json::object();
   for (const auto& [name, robot] : robotPresets()) {
     json pairs = json::array();
-    for (const auto& [a, b] : reachablePlaces(truth.scene, robot)) pairs.push_back({a, b});
-    reachable[name] = {{"robot", {{"width", robot.width}, {"length", robot.length},
-                                  {"height", robot.height}, {"max_step", robot.max_step}}},
+    for (const auto& [a, b] : reachablePlaces(truth.scene, robot))
+      pairs.push_back({a, b});
+    reachable[name] = {{"robot",
+                        {{"width", robot.width},
+                         {"length", robot.length},
+                         {"height", robot.height},
+                         {"max_step", robot.max_step}}},
                        {"pairs", pairs}};
   }
   document["reachable"] = reachable;
@@ -111,7 +121,8 @@ GroundTruth loadGroundTruth(const std::filesystem::path& file) {
       surface.id = s.at("id");
       surface.primitive = s.at("primitive");
       surface.face = s.at("face");
-      surface.point_class = classFromName(s.at("class").get<std::string>()).value_or(PointClass::kNone);
+      surface.point_class =
+          classFromName(s.at("class").get<std::string>()).value_or(PointClass::kNone);
       surface.planar = s.at("planar");
       surface.normal = vectorFrom(s.at("normal"));
       surface.offset = s.at("offset");

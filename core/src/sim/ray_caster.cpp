@@ -88,8 +88,7 @@ RayCaster::RayCaster(const Scene& scene) {
 }
 
 std::optional<RayHit> RayCaster::cast(const Eigen::Vector3d& origin,
-                                      const Eigen::Vector3d& direction,
-                                      double max_distance) const {
+                                      const Eigen::Vector3d& direction, double max_distance) const {
   std::optional<RayHit> nearest;
   double best = max_distance;
   for (std::size_t i = 0; i < solids_.size(); ++i) {
@@ -101,10 +100,12 @@ std::optional<RayHit> RayCaster::cast(const Eigen::Vector3d& origin,
     if (miss_squared > solid.bounding_radius * solid.bounding_radius) continue;
     if (along + solid.bounding_radius < 0.0 || along - solid.bounding_radius > best) continue;
 
-    const Eigen::Vector3d local_origin = solid.world_from_local.transpose() * (origin - solid.center);
+    const Eigen::Vector3d local_origin =
+        solid.world_from_local.transpose() * (origin - solid.center);
     const Eigen::Vector3d local_direction = solid.world_from_local.transpose() * direction;
-    const auto hit = solid.shape == Shape::kBox ? hitBox(local_origin, local_direction, solid.half_size)
-                                                : hitCylinder(local_origin, local_direction, solid.half_size);
+    const auto hit = solid.shape == Shape::kBox
+                         ? hitBox(local_origin, local_direction, solid.half_size)
+                         : hitCylinder(local_origin, local_direction, solid.half_size);
     if (!hit || hit->first >= best) continue;
     best = hit->first;
     Eigen::Vector3d local_normal = Eigen::Vector3d::Zero();

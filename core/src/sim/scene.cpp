@@ -15,12 +15,13 @@ Eigen::Matrix3d Primitive::rotation() const {
 }
 
 std::vector<std::pair<std::string, std::string>> reachablePlaces(const Scene& scene,
-                                                                  const RobotBox& robot) {
+                                                                 const RobotBox& robot) {
   const std::size_t n = scene.places.size();
   std::vector<std::size_t> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
   auto root = [&](std::size_t i) {
-    while (parent[i] != i) i = parent[i] = parent[parent[i]];
+    while (parent[i] != i)
+      i = parent[i] = parent[parent[i]];
     return i;
   };
   auto index = [&](const std::string& name) {

@@ -17,7 +17,9 @@ Eigen::Vector3d vector3(const json& value, const std::string& what) {
   return {value[0].get<double>(), value[1].get<double>(), value[2].get<double>()};
 }
 
-json toJson(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json toJson(const Eigen::Vector3d& v) {
+  return json::array({v.x(), v.y(), v.z()});
+}
 
 template <typename T>
 T field(const json& object, const char* key, T fallback) {
@@ -38,7 +40,8 @@ Scene sceneFromJson(const json& document) {
   scene.name = field<std::string>(document, "name", "unnamed");
   scene.description = field<std::string>(document, "description", "");
   if (const auto scanner = document.find("scanner"); scanner != document.end()) {
-    if (scanner->contains("position")) scene.scanner_position = vector3((*scanner)["position"], "scanner.position");
+    if (scanner->contains("position"))
+      scene.scanner_position = vector3((*scanner)["position"], "scanner.position");
     if (scanner->contains("axis")) scene.scanner_axis = vector3((*scanner)["axis"], "scanner.axis");
     if (scene.scanner_axis.norm() < 1e-9) throw SceneError("scanner.axis must not be zero");
   }
@@ -49,9 +52,12 @@ Scene sceneFromJson(const json& document) {
     primitive.name = field<std::string>(item, "name", "");
     const std::string where = "primitive '" + primitive.name + "'";
     const std::string shape = field<std::string>(item, "shape", "box");
-    if (shape == "box") primitive.shape = Shape::kBox;
-    else if (shape == "cylinder") primitive.shape = Shape::kCylinder;
-    else throw SceneError(where + ": unknown shape '" + shape + "'");
+    if (shape == "box")
+      primitive.shape = Shape::kBox;
+    else if (shape == "cylinder")
+      primitive.shape = Shape::kCylinder;
+    else
+      throw SceneError(where + ": unknown shape '" + shape + "'");
     const auto point_class = classFromName(field<std::string>(item, "class", "obstacle"));
     if (!point_class || *point_class == PointClass::kNone)
       throw SceneError(where + ": class must be ground, wall, ceiling, obstacle or stairs");

@@ -2,7 +2,8 @@
 
 // The simulated RoSi: a SICK LMS200 half line (180 beams, alpha = 0 .. 89.5 deg) turned by the
 // turntable through one revolution, observing a scene, with per-point ground truth.
-// Scanner frame (paper eq. 1-3): x = cos b cos a d, y = sin b cos a d, z = sin a d; z = turntable axis.
+// Scanner frame (paper eq. 1-3): x = cos b cos a d, y = sin b cos a d, z = sin a d; z = turntable
+// axis.
 
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -17,8 +18,8 @@
 namespace clearway::sim {
 
 struct SensorModel {
-  int lines = 200;             // lines per revolution (LMS200: 37.5 lines/s)
-  int points_per_line = 180;   // a half line at 0.5 deg
+  int lines = 200;            // lines per revolution (LMS200: 37.5 lines/s)
+  int points_per_line = 180;  // a half line at 0.5 deg
   double alpha_step_deg = 0.5;
   double range_noise_sigma = 0.01;  // [m]
   double max_range = 30.0;          // beyond it: no return [m]
@@ -57,7 +58,7 @@ struct GroundTruth {
   Scene scene;
   SensorModel sensor;
   ScannerPlacement placement;
-  std::vector<PointClass> classes;  // per scan point; kNone for no return
+  std::vector<PointClass> classes;     // per scan point; kNone for no return
   std::vector<std::int32_t> surfaces;  // per scan point; -1 for no return
   std::vector<SurfaceTruth> seen_surfaces;
 };
@@ -68,9 +69,12 @@ struct SimulatedScan {
 };
 
 // Surface ids are primitive * 8 + face.
-inline int surfaceId(int primitive, int face) { return primitive * 8 + face; }
+inline int surfaceId(int primitive, int face) {
+  return primitive * 8 + face;
+}
 
 SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
-                           const ScannerPlacement& placement, const ProgressCallback& progress = {});
+                           const ScannerPlacement& placement,
+                           const ProgressCallback& progress = {});
 
 }  // namespace clearway::sim

@@ -67,11 +67,11 @@ struct RobotBox {
   double width = 0.85;
   double length = 1.2;
   double height = 1.5;
-  double max_step = 0.2;
+  double max_step = 0.1;
 };
 
 // Pairs of places the robot can travel between (each pair once, names ordered as in the scene).
 std::vector<std::pair<std::string, std::string>> reachablePlaces(const Scene& scene,
-                                                                  const RobotBox& robot);
+                                                                 const RobotBox& robot);
 
 }  // namespace clearway::sim

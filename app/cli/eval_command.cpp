@@ -1,0 +1,24 @@
+#include <iostream>
+
+#include "arguments.h"
+#include "clearway/eval/evaluation.h"
+#include "clearway/sim/ground_truth_io.h"
+#include "commands.h"
+
+namespace clearway::cli {
+
+int runEval(const std::vector<std::string>& words) {
+  const Arguments arguments(words, {"json"}, {"tolerance"});
+  arguments.expectPositional(2, "clearway-cli eval [--json] SCAN.truth.json RESULT_DIR");
+  eval::EvaluationOptions options;
+  options.footprint_tolerance_m =
+      arguments.number("tolerance", options.footprint_tolerance_m, 0.0, 1.0);
+  const sim::GroundTruth truth = sim::loadGroundTruth(arguments.positional()[0]);
+  const eval::SegmentationResult result = eval::loadSegmentationResult(arguments.positional()[1]);
+  const eval::Evaluation evaluation = eval::evaluate(truth, result, options);
+  std::cout << (arguments.flag("json") ? eval::toJson(evaluation) + "\n"
+                                       : eval::toText(evaluation));
+  return 0;
+}
+
+}  // namespace clearway::cli

@@ -1,0 +1,112 @@
+#include "clearway/eval/robot_fit.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
+
+namespace clearway::eval {
+namespace {
+
+sim::Scene walkableOnly(const sim::Scene& scene) {
+  sim::Scene walkable;
+  for (const sim::Primitive& primitive : scene.primitives)
+    if (primitive.point_class == PointClass::kGround ||
+        primitive.point_class == PointClass::kStairs)
+      walkable.primitives.push_back(primitive);
+  return walkable;
+}
+
+struct OrientedBox {
+  Eigen::Vector3d center;
+  Eigen::Matrix3d axes;  // columns
+  Eigen::Vector3d half;
+};
+
+// Separating-axis test for two oriented boxes.
+bool intersects(const OrientedBox& a, const OrientedBox& b) {
+  const Eigen::Matrix3d r = a.axes.transpose() * b.axes;
+  const Eigen::Matrix3d abs_r = r.cwiseAbs().array() + 1e-9;
+  const Eigen::Vector3d t = a.axes.transpose() * (b.center - a.center);
+  for (int i = 0; i < 3; ++i)
+    if (std::abs(t[i]) > a.half[i] + abs_r.row(i).dot(b.half)) return false;
+  for (int j = 0; j < 3; ++j)
+    if (std::abs(t.dot(r.col(j))) > abs_r.col(j).dot(a.half) + b.half[j]) return false;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      const int i1 = (i + 1) % 3, i2 = (i + 2) % 3, j1 = (j + 1) % 3, j2 = (j + 2) % 3;
+      const double distance = std::abs(t[i2] * r(i1, j) - t[i1] * r(i2, j));
+      const double reach = a.half[i1] * abs_r(i2, j) + a.half[i2] * abs_r(i1, j) +
+                           b.half[j1] * abs_r(i, j2) + b.half[j2] * abs_r(i, j1);
+      if (distance > reach) return false;
+    }
+  }
+  return true;
+}
+
+// Spacing of the ground samples under the footprint [m].
+constexpr double kSampleSpacing = 0.15;
+
+}  // namespace
+
+RobotFit::RobotFit(const sim::Scene& scene)
+    : scene_(scene), walkable_(walkableOnly(scene)), walkable_caster_(walkable_) {}
+
+std::optional<double> RobotFit::groundHeight(double x, double y, double from_z) const {
+  const auto hit = walkable_caster_.cast({x, y, from_z}, -Eigen::Vector3d::UnitZ(), 100.0);
+  if (!hit || hit->normal.z() < 0.5) return std::nullopt;
+  return from_z - hit->distance;
+}
+
+bool RobotFit::fits(const sim::RobotBox& robot, const Eigen::Vector3d& center, double yaw) const {
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Vector3d along = turn.col(0), across = turn.col(1);
+  const double from_z = center.z() + 1.0;
+  const auto center_height = groundHeight(center.x(), center.y(), from_z);
+  if (!center_height) return false;
+
+  // Ground under the whole footprint, with no step higher than the robot can take.
+  const int n_along = std::max(2, int(std::ceil(robot.length / kSampleSpacing)) + 1);
+  const int n_across = std::max(2, int(std::ceil(robot.width / kSampleSpacing)) + 1);
+  std::vector<double> heights(std::size_t(n_along * n_across));
+  double highest = *center_height;
+  for (int i = 0; i < n_along; ++i) {
+    for (int j = 0; j < n_across; ++j) {
+      const double u = -robot.length / 2 + robot.length * i / (n_along - 1);
+      const double v = -robot.width / 2 + robot.width * j / (n_across - 1);
+      const Eigen::Vector3d p = center + u * along + v * across;
+      const auto height = groundHeight(p.x(), p.y(), from_z);
+      if (!height) return false;
+      heights[std::size_t(i * n_across + j)] = *height;
+      highest = std::max(highest, *height);
+      if (i > 0 &&
+          std::abs(*height - heights[std::size_t((i - 1) * n_across + j)]) > robot.max_step)
+        return false;
+      if (j > 0 && std::abs(*height - heights[std::size_t(i * n_across + j - 1)]) > robot.max_step)
+        return false;
+    }
+  }
+
+  // The body, from the step height above the highest ground sample to the robot's height.
+  OrientedBox body;
+  const double bottom = highest + robot.max_step;
+  const double top = *center_height + robot.height;
+  if (top <= bottom) return true;
+  body.center = {center.x(), center.y(), (bottom + top) / 2};
+  body.axes = turn;
+  body.half = {robot.length / 2, robot.width / 2, (top - bottom) / 2};
+  for (const sim::Primitive& primitive : scene_.primitives) {
+    if (primitive.point_class == PointClass::kGround) continue;
+    const OrientedBox solid{primitive.center, primitive.rotation(), primitive.size / 2};
+    if (intersects(body, solid)) return false;
+  }
+  return true;
+}
+
+bool RobotFit::fitsAnyOrientation(const sim::RobotBox& robot, const Eigen::Vector3d& center,
+                                  int orientations) const {
+  for (int k = 0; k < orientations; ++k)
+    if (fits(robot, center, std::numbers::pi * k / orientations)) return true;
+  return false;
+}
+
+}  // namespace clearway::eval

@@ -1,0 +1,82 @@
+// clearway-cli simulate / scene / eval as a user runs them.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.h"
+
+namespace clearway {
+namespace {
+
+using test::runCli;
+using test::shellQuote;
+
+TEST(CliSimulate, WritesAnOrganisedRosiScanAndItsTruth) {
+  test::TemporaryDirectory directory;
+  const auto scan = (directory / "garage.pcd").string();
+  const auto result = runCli("simulate garage --lines 80 --door-width 1.1 -o " + shellQuote(scan));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto info = runCli("info --json " + shellQuote(scan));
+  ASSERT_EQ(info.exit_code, 0) << info.err;
+  const auto json = nlohmann::json::parse(info.out);
+  EXPECT_EQ(json.at("scan_lines"), 80);
+  EXPECT_EQ(json.at("points_per_line"), 180);
+  EXPECT_EQ(json.at("points"), 80 * 180);
+  EXPECT_EQ(json.at("organised"), true);
+  EXPECT_EQ(json.at("has_beta"), true);
+  const auto truth = nlohmann::json::parse(test::readBytes(directory / "garage.truth.json"));
+  EXPECT_EQ(truth.at("classes").size(), 80u * 180u);
+  // The door width parameter reached the scene and its analytic answer.
+  EXPECT_DOUBLE_EQ(truth.at("scene").at("passages").at(0).at("width").get<double>(), 1.1);
+  EXPECT_EQ(truth.at("reachable").at("lmf_arm_out").at("pairs").size(), 1u);
+}
+
+TEST(CliSimulate, SpeedSetsTheLineCountAndScenesLoadFromFiles) {
+  test::TemporaryDirectory directory;
+  ASSERT_EQ(runCli("scene stairwell -o " + shellQuote((directory / "s.json").string())).exit_code,
+            0);
+  const auto scan = (directory / "s.pcd").string();
+  const auto result =
+      runCli("simulate " + shellQuote((directory / "s.json").string()) +
+             " --speed 168.75 --axis down --position 0,0,1.5 -o " + shellQuote(scan));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto json = nlohmann::json::parse(runCli("info --json " + shellQuote(scan)).out);
+  EXPECT_EQ(json.at("scan_lines"), 80);
+}
+
+TEST(CliSimulate, BadScenesAndOptionsFailClearly) {
+  test::TemporaryDirectory directory;
+  const auto out = " -o " + shellQuote((directory / "x.pcd").string());
+  EXPECT_EQ(runCli("simulate volcano" + out).exit_code, 2);
+  EXPECT_EQ(runCli("simulate garage --lines 0" + out).exit_code, 2);
+  EXPECT_EQ(runCli("simulate garage --axis 0,0,0" + out).exit_code, 2);
+  EXPECT_EQ(runCli("simulate garage").exit_code, 2);
+  test::writeBytes(directory / "broken.json", "{\"primitives\": [{\"class\": \"lava\"}]}");
+  const auto broken = runCli("simulate " + shellQuote((directory / "broken.json").string()) + out);
+  EXPECT_EQ(broken.exit_code, 1);
+  EXPECT_NE(broken.err.find("broken.json"), std::string::npos) << broken.err;
+  EXPECT_FALSE(std::filesystem::exists(directory / "x.pcd"));
+}
+
+TEST(CliScene, ListsEveryBuiltIn) {
+  const auto result = runCli("scene --list");
+  ASSERT_EQ(result.exit_code, 0);
+  for (const char* name :
+       {"garage", "hallway", "outdoor", "stairwell", "doorways", "glass", "no-ground"})
+    EXPECT_NE(result.out.find(name), std::string::npos) << name;
+}
+
+TEST(CliEval, RefusesAFolderThatIsNoResult) {
+  test::TemporaryDirectory directory;
+  const auto scan = (directory / "g.pcd").string();
+  ASSERT_EQ(runCli("simulate garage --lines 40 -o " + shellQuote(scan)).exit_code, 0);
+  const auto result = runCli("eval " + shellQuote((directory / "g.truth.json").string()) + " " +
+                             shellQuote(directory.path().string()));
+  EXPECT_EQ(result.exit_code, 1);
+  EXPECT_NE(result.err.find("report.json"), std::string::npos) << result.err;
+  EXPECT_EQ(runCli("eval only-one-argument").exit_code, 2);
+}
+
+}  // namespace
+}  // namespace clearway

@@ -1,0 +1,173 @@
+// eval on hand-made results whose right scores are known.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "clearway/eval/evaluation.h"
+#include "clearway/eval/robot_fit.h"
+#include "clearway/sim/builtin_scenes.h"
+#include "clearway/sim/ground_truth_io.h"
+#include "test_support.h"
+
+namespace clearway::eval {
+namespace {
+
+using nlohmann::json;
+
+// A map whose frame is the garage's world frame: x 4 m behind .. 12 m ahead, y -3 .. 3 m, 0.1 m
+// cells.
+struct HandMadeMap {
+  double resolution = 0.1;
+  double x0 = -4.0, y0 = -3.0;
+  int width = 160, height = 60;
+  std::vector<std::uint8_t> cells = std::vector<std::uint8_t>(std::size_t(width * height), 0);
+  void paint(double xa, double ya, double xb, double yb, std::uint8_t label) {
+    for (int r = 0; r < height; ++r)
+      for (int c = 0; c < width; ++c) {
+        const double x = x0 + (c + 0.5) * resolution, y = y0 + (r + 0.5) * resolution;
+        if (x >= xa && x <= xb && y >= ya && y <= yb)
+          cells[std::size_t(height - 1 - r) * std::size_t(width) + std::size_t(c)] = label;
+      }
+  }
+};
+
+class Evaluate : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    sim::SensorModel sensor;
+    sensor.lines = 120;
+    scene_ = *sim::builtinScene("garage");
+    simulated_ = sim::simulateRosi(scene_, sensor, sim::defaultPlacement(scene_));
+  }
+
+  SegmentationResult withMap(const HandMadeMap& map, double robot_width) {
+    const std::string pgm = "P5\n" + std::to_string(map.width) + " " + std::to_string(map.height) +
+                            "\n255\n" + std::string(map.cells.begin(), map.cells.end());
+    test::writeBytes(directory_ / "labels.pgm", pgm);
+    std::vector<double> matrix;
+    const Eigen::Matrix4d m = simulated_.truth.placement.worldFromScanner().matrix();
+    for (int i = 0; i < 16; ++i)
+      matrix.push_back(m(i / 4, i % 4));
+    const json report = {
+        {"ground_found", true},
+        {"robot", {{"width", robot_width}, {"length", 1.2}, {"height", 1.5}, {"max_step", 0.1}}},
+        {"planes", json::array()},
+        {"map",
+         {{"resolution", map.resolution},
+          {"origin", {map.x0, map.y0}},
+          {"width", map.width},
+          {"height", map.height},
+          {"labels", "labels.pgm"},
+          {"map_from_scanner", matrix}}}};
+    test::writeBytes(directory_ / "report.json", report.dump());
+    return loadSegmentationResult(directory_.path());
+  }
+
+  sim::Scene scene_;
+  sim::SimulatedScan simulated_;
+  test::TemporaryDirectory directory_;
+};
+
+TEST_F(Evaluate, PerfectPointClassesScoreOne) {
+  SegmentationResult result;
+  result.point_classes = simulated_.truth.classes;
+  const Evaluation e = evaluate(simulated_.truth, result);
+  for (PointClass c : {PointClass::kGround, PointClass::kWall, PointClass::kObstacle}) {
+    EXPECT_DOUBLE_EQ(e.classes[std::size_t(c)].precision, 1.0);
+    EXPECT_DOUBLE_EQ(e.classes[std::size_t(c)].iou, 1.0);
+  }
+}
+
+TEST_F(Evaluate, CallingEverythingGroundGivesTheGroundShareAsPrecision) {
+  SegmentationResult result;
+  result.point_classes.assign(simulated_.truth.classes.size(), PointClass::kGround);
+  const Evaluation e = evaluate(simulated_.truth, result);
+  std::size_t ground = 0, returns = 0;
+  for (PointClass c : simulated_.truth.classes) {
+    ground += c == PointClass::kGround;
+    returns += c != PointClass::kNone;
+  }
+  const ClassScore& g = e.classes[std::size_t(PointClass::kGround)];
+  EXPECT_DOUBLE_EQ(g.recall, 1.0);
+  EXPECT_DOUBLE_EQ(g.precision, double(ground) / double(returns));
+  EXPECT_DOUBLE_EQ(e.classes[std::size_t(PointClass::kWall)].recall, 0.0);
+}
+
+TEST_F(Evaluate, PointCountMismatchIsAnError) {
+  SegmentationResult result;
+  result.point_classes.assign(10, PointClass::kGround);
+  EXPECT_THROW(evaluate(simulated_.truth, result), std::runtime_error);
+}
+
+TEST_F(Evaluate, TruthPlanesAreRecalledAndTiltedOnesMeasured) {
+  SegmentationResult exact, tilted;
+  for (const sim::SurfaceTruth& s : simulated_.truth.seen_surfaces) {
+    if (!s.planar || s.points < 200) continue;
+    exact.planes.push_back({s.normal, s.offset, ""});
+    // Tilt by 5 degrees about an axis perpendicular to the normal, flip half of them.
+    const Eigen::Vector3d axis = s.normal.unitOrthogonal();
+    const Eigen::Vector3d n = Eigen::AngleAxisd(5.0 * M_PI / 180.0, axis) * s.normal;
+    const double sign = tilted.planes.size() % 2 ? -1.0 : 1.0;
+    tilted.planes.push_back({sign * n, sign * s.offset, ""});
+  }
+  const Evaluation e = evaluate(simulated_.truth, exact);
+  EXPECT_DOUBLE_EQ(e.planes.recall, 1.0);
+  EXPECT_DOUBLE_EQ(e.planes.precision, 1.0);
+  EXPECT_NEAR(e.planes.mean_normal_error_deg, 0.0, 1e-6);
+  const Evaluation t = evaluate(simulated_.truth, tilted);
+  EXPECT_DOUBLE_EQ(t.planes.recall, 1.0);
+  EXPECT_NEAR(t.planes.mean_normal_error_deg, 5.0, 1e-6);
+  EXPECT_NEAR(t.planes.mean_offset_error_m, 0.0, 1e-9);
+}
+
+TEST_F(Evaluate, GreenInsideTheTruckIsFalseTraversable) {
+  HandMadeMap map;
+  map.paint(1.8, -1.2, 2.2, -0.8, 1);  // open floor by the door: true
+  map.paint(-1.2, 1.4, -0.8, 1.8, 1);  // inside the truck: false
+  const Evaluation e = evaluate(simulated_.truth, withMap(map, 0.85));
+  const std::size_t cells_per_patch = 16;
+  EXPECT_EQ(e.map.traversable_cells, 2 * cells_per_patch);
+  EXPECT_EQ(e.map.false_traversable_cells, cells_per_patch);
+  EXPECT_DOUBLE_EQ(e.map.false_traversable_rate, 0.5);
+}
+
+TEST_F(Evaluate, APathThroughTheDoorIsRightForTheSmallRobotAndUnsafeForTheWide) {
+  HandMadeMap map;
+  map.paint(1.5, -1.1, 8.0, -0.9, 2);  // a line of careful cells through the 0.9 m door's middle
+  const Evaluation small = evaluate(simulated_.truth, withMap(map, 0.85));
+  ASSERT_EQ(small.map.places.size(), 1u);
+  EXPECT_TRUE(small.map.places[0].expected);
+  EXPECT_TRUE(small.map.places[0].found);
+  EXPECT_EQ(small.map.false_traversable_cells, 0u);
+
+  const Evaluation wide = evaluate(simulated_.truth, withMap(map, 1.0));
+  EXPECT_FALSE(wide.map.places[0].expected);
+  EXPECT_TRUE(wide.map.places[0].found);
+  EXPECT_GT(wide.map.false_traversable_cells, 0u) << "the door cells cannot hold a 1.0 m robot";
+}
+
+TEST_F(Evaluate, BrokenResultFoldersAreRefused) {
+  EXPECT_THROW(loadSegmentationResult(directory_ / "absent"), std::runtime_error);
+  test::writeBytes(directory_ / "report.json", R"({"map": {"resolution": 0.1}})");
+  EXPECT_THROW(loadSegmentationResult(directory_.path()), std::runtime_error);
+  HandMadeMap map;
+  withMap(map, 0.85);
+  test::writeBytes(directory_ / "labels.pgm", "P5\n160 60\n255\nshort");
+  EXPECT_THROW(loadSegmentationResult(directory_.path()), std::runtime_error);
+}
+
+TEST(RobotFit, StepsAndLowObstaclesStopTheRobot) {
+  const RobotFit hallway(*sim::builtinScene("hallway"));
+  const sim::RobotBox robot{0.85, 1.2, 1.5, 0.1};
+  EXPECT_TRUE(hallway.fits(robot, {1.0, 0.0, 0.0}, 0.0));
+  EXPECT_TRUE(hallway.fits(robot, {5.0, 0.8, 0.4}, 0.0)) << "on the ramp";
+  EXPECT_FALSE(hallway.fits(robot, {3.6, -0.8, 0.3}, 0.0)) << "on the stairs";
+  EXPECT_FALSE(hallway.fits(robot, {5.0, 0.0, 0.4}, 0.0)) << "astride the divider";
+  const auto ground = hallway.groundHeight(5.0, 0.8, 3.0);
+  ASSERT_TRUE(ground);
+  EXPECT_GT(*ground, 0.1);
+}
+
+}  // namespace
+}  // namespace clearway::eval

@@ -1,0 +1,114 @@
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "clearway/sim/builtin_scenes.h"
+#include "clearway/sim/ground_truth_io.h"
+#include "clearway/sim/scene_io.h"
+#include "test_support.h"
+
+namespace clearway::sim {
+namespace {
+
+TEST(Scenes, ShippedSceneFilesAreTheBuiltInsDefaults) {
+  for (const std::string& name : builtinSceneNames()) {
+    SCOPED_TRACE(name);
+    const auto file =
+        std::filesystem::path(CLEARWAY_SOURCE_DIR) / "resources/scenes" / (name + ".json");
+    ASSERT_TRUE(std::filesystem::exists(file))
+        << "regenerate with: clearway-cli scene " << name << " -o " << file;
+    EXPECT_EQ(sceneToJson(loadScene(file)), sceneToJson(*builtinScene(name)))
+        << "resources/scenes is stale: clearway-cli scene " << name << " -o " << file;
+  }
+}
+
+TEST(Scenes, JsonRoundTripKeepsEverything) {
+  const Scene scene = *builtinScene("outdoor");
+  const Scene copy = sceneFromJson(sceneToJson(scene));
+  ASSERT_EQ(copy.primitives.size(), scene.primitives.size());
+  const auto pipe_it = std::find_if(copy.primitives.begin(), copy.primitives.end(),
+                                    [](const Primitive& p) { return p.name == "pipe"; });
+  ASSERT_NE(pipe_it, copy.primitives.end());
+  const Primitive& pipe = *pipe_it;
+  EXPECT_EQ(pipe.shape, Shape::kCylinder);
+  EXPECT_DOUBLE_EQ(pipe.roll_deg, 90.0);
+  EXPECT_EQ(copy.passages.size(), scene.passages.size());
+  EXPECT_EQ(copy.scanner_axis, scene.scanner_axis);
+}
+
+TEST(Scenes, MalformedScenesAreRefusedWithAReason) {
+  using nlohmann::json;
+  EXPECT_THROW(sceneFromJson(json::array()), SceneError);
+  EXPECT_THROW(sceneFromJson(json{{"name", "x"}}), SceneError);
+  const json bad_class = {
+      {"primitives", {{{"class", "lava"}, {"center", {0, 0, 0}}, {"size", {1, 1, 1}}}}}};
+  EXPECT_THROW(sceneFromJson(bad_class), SceneError);
+  const json bad_vector = {{"primitives", {{{"center", {0, 0}}, {"size", {1, 1, 1}}}}}};
+  EXPECT_THROW(sceneFromJson(bad_vector), SceneError);
+  const json negative = {{"primitives", {{{"center", {0, 0, 0}}, {"size", {1, -1, 1}}}}}};
+  EXPECT_THROW(sceneFromJson(negative), SceneError);
+  test::TemporaryDirectory directory;
+  test::writeBytes(directory / "broken.json", "{ not json");
+  EXPECT_THROW(loadScene(directory / "broken.json"), SceneError);
+  EXPECT_THROW(loadScene(directory / "missing.json"), SceneError);
+}
+
+TEST(Scenes, GarageDoorDecidesWhoGetsOut) {
+  SceneParameters parameters;
+  parameters.door_width = 0.9;
+  parameters.door_height = 2.0;
+  const Scene garage = *builtinScene("garage", parameters);
+  const auto presets = robotPresets();
+  auto reaches = [&](const RobotBox& robot) { return !reachablePlaces(garage, robot).empty(); };
+  EXPECT_TRUE(reaches(presets[0].second)) << "0.85 m robot, 0.9 m door";
+  EXPECT_FALSE(reaches(presets[1].second)) << "1.0 m robot";
+  EXPECT_FALSE(reaches(presets[2].second)) << "2.1 m tall robot, 2.0 m door";
+}
+
+TEST(Scenes, HallwayRampIsReachableStairsAreNot) {
+  const Scene hallway = *builtinScene("hallway");
+  const auto pairs = reachablePlaces(hallway, RobotBox{});
+  EXPECT_NE(std::find(pairs.begin(), pairs.end(),
+                      std::make_pair(std::string("lower"), std::string("upper_ramp"))),
+            pairs.end());
+  for (const auto& [a, b] : pairs)
+    EXPECT_TRUE(a != "upper_stairs" && b != "upper_stairs");
+}
+
+TEST(Scenes, DoorwaysLetThroughOnlyTheDoorsThatFit) {
+  const auto pairs = reachablePlaces(*builtinScene("doorways"), RobotBox{0.85, 1.2, 1.5, 0.1});
+  // Doors: 0.7, 0.85 (not strictly wider), 0.95, 1.1 but 1.4 m high, 1.3.
+  std::set<std::string> rooms;
+  for (const auto& [a, b] : pairs)
+    if (a == "corridor") rooms.insert(b);
+  EXPECT_EQ(rooms, (std::set<std::string>{"room_3", "room_5"}));
+}
+
+TEST(GroundTruthFile, RoundTrips) {
+  const Scene scene = *builtinScene("stairwell");
+  SensorModel sensor;
+  sensor.lines = 30;
+  const SimulatedScan simulated = simulateRosi(scene, sensor, defaultPlacement(scene));
+  test::TemporaryDirectory directory;
+  saveGroundTruth(simulated.truth, directory / "s.truth.json", "s.pcd");
+  const GroundTruth read = loadGroundTruth(directory / "s.truth.json");
+  EXPECT_EQ(read.classes, simulated.truth.classes);
+  EXPECT_EQ(read.surfaces, simulated.truth.surfaces);
+  ASSERT_EQ(read.seen_surfaces.size(), simulated.truth.seen_surfaces.size());
+  EXPECT_NEAR(read.seen_surfaces[0].offset, simulated.truth.seen_surfaces[0].offset, 1e-9);
+  EXPECT_EQ(read.sensor.lines, 30);
+  EXPECT_TRUE(
+      read.placement.worldFromScanner().isApprox(simulated.truth.placement.worldFromScanner()));
+}
+
+TEST(GroundTruthFile, BadFilesAreRefused) {
+  test::TemporaryDirectory directory;
+  test::writeBytes(directory / "a.truth.json", R"({"format": "something else"})");
+  EXPECT_THROW(loadGroundTruth(directory / "a.truth.json"), SceneError);
+  test::writeBytes(directory / "b.truth.json", R"({"format": "clearway-truth"})");
+  EXPECT_THROW(loadGroundTruth(directory / "b.truth.json"), SceneError);
+  EXPECT_THROW(loadGroundTruth(directory / "none.truth.json"), SceneError);
+}
+
+}  // namespace
+}  // namespace clearway::sim
