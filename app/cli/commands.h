@@ -12,5 +12,6 @@ int runInfo(const std::vector<std::string>& words);
 int runSimulate(const std::vector<std::string>& words);
 int runScene(const std::vector<std::string>& words);
 int runEval(const std::vector<std::string>& words);
+int runSegment(const std::vector<std::string>& words);
 
 }  // namespace clearway::cli

@@ -27,6 +27,9 @@ constexpr const char* kUsage =
     "           [--ramp-slope DEG] [--stair-rise M] [--stair-tread M] [--encoding E]\n"
     "                                            simulated RoSi scan + FILE.truth.json\n"
     "  scene --list | scene NAME [-o FILE.json]  list or export the built-in scenes\n"
+    "  segment SCAN -o DIR [--robot-width W] [--robot-length L] [--robot-height H]\n"
+    "          [--max-step M] [--max-slope DEG] [--params FILE] [--method split-and-merge|hough]\n"
+    "          [--threads N]                     planes, ground, traversability map, 3D scene\n"
     "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
     "                                            score a segment result against the truth\n"
     "\n"
@@ -38,10 +41,9 @@ constexpr const char* kUsage =
 int main(int argc, char** argv) {
   using Command = std::function<int(const std::vector<std::string>&)>;
   const std::map<std::string, Command> commands = {
-      {"info", clearway::cli::runInfo},
-      {"simulate", clearway::cli::runSimulate},
-      {"scene", clearway::cli::runScene},
-      {"eval", clearway::cli::runEval},
+      {"info", clearway::cli::runInfo},       {"simulate", clearway::cli::runSimulate},
+      {"scene", clearway::cli::runScene},     {"eval", clearway::cli::runEval},
+      {"segment", clearway::cli::runSegment},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;

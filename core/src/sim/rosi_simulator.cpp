@@ -147,6 +147,14 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
     truth.seen_surfaces.push_back(surface);
   }
 
+  // The arm's kinematics tell the RoSi where it is; the PCD keeps this as its VIEWPOINT.
+  SensorPose pose;
+  for (int r = 0; r < 3; ++r) {
+    pose.position[std::size_t(r)] = origin[r];
+    for (int c = 0; c < 3; ++c)
+      pose.rotation[std::size_t(3 * r + c)] = rotation(r, c);
+  }
+  scan.sensor_pose = pose;
   scan.metadata.format = "simulated rosi";
   scan.metadata.frame = "RoSi scanner frame: metres, z = turntable axis";
   scan.metadata.source_path = "simulated:" + scene.name;

@@ -1,0 +1,102 @@
+#pragma once
+
+// Stages 1-4 of the pipeline and everything the traversability check needs that does not depend on
+// the robot's size: computed once per scan and reused when the operator changes the robot.
+
+#include <Eigen/Geometry>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "clearway/progress.h"
+#include "clearway/scan.h"
+#include "clearway/segmentation/line_segments.h"
+#include "clearway/segmentation/params.h"
+#include "clearway/segmentation/planes.h"
+
+namespace clearway {
+
+// A regular grid on the reference ground plane (map frame: x, y on the plane, z up its normal).
+struct MapGrid {
+  double resolution = 0.05;
+  Eigen::Vector2d origin = Eigen::Vector2d::Zero();  // map x, y of the lower-left cell's corner
+  int width = 0;
+  int height = 0;
+
+  std::size_t cells() const { return std::size_t(width) * std::size_t(height); }
+  std::size_t index(int column, int row) const {
+    return std::size_t(row) * std::size_t(width) + std::size_t(column);
+  }
+  bool inside(int column, int row) const {
+    return column >= 0 && row >= 0 && column < width && row < height;
+  }
+  // Cell of a map position; may be outside.
+  Eigen::Vector2i cellOf(double x, double y) const {
+    return {int(std::floor((x - origin.x()) / resolution)),
+            int(std::floor((y - origin.y()) / resolution))};
+  }
+  Eigen::Vector2d centre(int column, int row) const {
+    return {origin.x() + (column + 0.5) * resolution, origin.y() + (row + 0.5) * resolution};
+  }
+};
+
+// A point that is not ground, as the map sees it.
+struct MapObstacle {
+  std::uint32_t cell = 0;
+  float x = 0.0F, y = 0.0F, z = 0.0F;  // map position [m]
+  float height = 0.0F;                 // above the local ground [m]
+};
+
+// Where two ground planes meet on the map, and the smallest step between them there.
+struct GroundContact {
+  int a = -1, b = -1;
+  float step = 0.0F;
+};
+
+struct MapInputs {
+  MapGrid grid;
+  std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
+  std::vector<float> ground_height;        // per cell: that plane's map z at the cell centre
+  std::vector<MapObstacle> obstacles;
+  std::vector<GroundContact> contacts;
+  std::vector<std::array<std::uint32_t, 3>> ground_triangles;  // scan point indices
+};
+
+struct StageTiming {
+  std::string stage;
+  double milliseconds = 0.0;
+};
+
+struct ScanAnalysis {
+  std::size_t scan_points = 0;
+  std::size_t valid_points = 0;
+  std::vector<LineSegment> segments;
+  std::size_t candidate_planes = 0;
+  ValidatedPlanes planes;                         // kinds are set: ground / wall / ceiling / other
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // gravity's up in the scanner frame
+  bool ground_found = false;
+  std::string reason;  // why the result cannot be trusted, when it cannot
+  int reference_ground = -1;
+  std::vector<int> ground_planes;  // ground candidates, reference first
+  Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
+  MapInputs inputs;
+  std::vector<StageTiming> timings;
+
+  // Map height of a ground plane above the map point (x, y).
+  double planeHeight(int plane, double x, double y) const;
+};
+
+// Runs stages 1-4 and prepares the map inputs. Throws OperationCancelled when asked to stop.
+ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int threads = 2,
+                         const ProgressCallback& progress = {});
+
+// The up direction the analysis assumes: from the sensor pose when the scan has one (world z
+// seen from the scanner), else the file's own z axis.
+Eigen::Vector3d upDirection(const Scan& scan);
+
+// Internal steps, exposed for tests.
+void selectGround(ScanAnalysis& analysis, const GroundParams& params);
+void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAnalysis& analysis);
+
+}  // namespace clearway

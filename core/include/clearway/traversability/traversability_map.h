@@ -1,0 +1,59 @@
+#pragma once
+
+// Stage 5 (paper II-D): where the robot's centre can be, for one robot size. Labels and their
+// values are those of labels.pgm (docs/FORMATS.md).
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "clearway/progress.h"
+#include "clearway/segmentation/params.h"
+#include "clearway/segmentation/scan_analysis.h"
+
+namespace clearway {
+
+enum class CellLabel : std::uint8_t {
+  kUnknown = 0,      // not observed
+  kTraversable = 1,  // green
+  kCareful = 2,      // orange: fits only with little margin (narrow passage)
+  kObstacle = 3,     // orange: a low, probably passable obstacle
+  kImpassable = 4,   // red
+  kStairs = 5,       // reserved for stair detection
+};
+inline constexpr int kCellLabelCount = 6;
+
+// Why a cell is red (or why the robot cannot stand there).
+enum class CellReason : std::uint8_t {
+  kNone = 0,
+  kWall = 1,        // something stands in the way from the ground up
+  kTooLow = 2,      // an overhang lower than the robot
+  kTooSteep = 3,    // a step or drop higher than the robot can take
+  kTooNarrow = 4,   // free, but the robot's box does not fit in any orientation
+  kOtherLevel = 5,  // a surface the robot cannot reach (a table top, a platform)
+};
+std::string_view reasonName(CellReason reason);
+std::string_view labelName(CellLabel label);
+
+struct TraversabilityMap {
+  MapGrid grid;
+  std::vector<std::uint8_t> labels;   // CellLabel per cell; row 0 = smallest map y
+  std::vector<std::uint8_t> reasons;  // CellReason per cell
+  // Index of an orientation the robot fits in (yaw = index * 180 / orientations deg), 255 if none.
+  std::vector<std::uint8_t> orientation;
+  int orientations = 12;
+  std::array<std::size_t, kCellLabelCount> counts{};
+  std::vector<int> accepted_ground;  // ground planes the robot can reach from the reference
+
+  CellLabel label(int column, int row) const { return CellLabel(labels[grid.index(column, row)]); }
+  double yawDegrees(int column, int row) const;  // NaN where nothing fits
+};
+
+// Builds the map for `robot` from a scan analysis; cheap enough to re-run on every slider move.
+// With no trusted ground the map has no traversable cell.
+TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const RobotParams& robot,
+                                        const MapParams& params, int threads = 2,
+                                        const ProgressCallback& progress = {});
+
+}  // namespace clearway

@@ -1,0 +1,218 @@
+#include "clearway/io/result_writer.h"
+
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <sstream>
+
+#include "clearway/io/file_util.h"
+#include "clearway/io/scan_error.h"
+
+namespace clearway {
+namespace {
+
+// Image row 0 is the map's top (largest y), as image viewers and ROS expect.
+template <typename Pixel>
+std::vector<Pixel> topDown(const TraversabilityMap& map, Pixel (*pixel)(std::uint8_t)) {
+  std::vector<Pixel> image(map.grid.cells());
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column)
+      image[std::size_t(map.grid.height - 1 - row) * std::size_t(map.grid.width) +
+            std::size_t(column)] = pixel(map.labels[map.grid.index(column, row)]);
+  return image;
+}
+
+void writePgm(const std::filesystem::path& file, int width, int height,
+              const std::vector<std::uint8_t>& pixels) {
+  std::string bytes = "P5\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
+  bytes.append(pixels.begin(), pixels.end());
+  writeTextFileAtomically(file, bytes);
+}
+
+std::uint8_t identity(std::uint8_t label) {
+  return label;
+}
+
+// ROS occupancy: 254 free, 0 occupied, 205 unknown.
+std::uint8_t occupancy(std::uint8_t label) {
+  switch (CellLabel(label)) {
+    case CellLabel::kTraversable:
+    case CellLabel::kCareful:
+      return 254;
+    case CellLabel::kUnknown:
+      return 205;
+    default:
+      return 0;
+  }
+}
+
+}  // namespace
+
+std::string reportJson(const PipelineResult& result, const SegmentationParams& params,
+                       const std::string& scan_name) {
+  const ScanAnalysis& analysis = result.analysis;
+  nlohmann::ordered_json report;
+  report["scan"] = scan_name;
+  report["ground_found"] = analysis.ground_found;
+  if (!analysis.reason.empty()) report["reason"] = analysis.reason;
+  report["robot"] = {
+      {"name", result.robot.name},         {"width", result.robot.width},
+      {"length", result.robot.length},     {"height", result.robot.height},
+      {"max_step", result.robot.max_step}, {"max_slope_deg", params.ground.max_slope_deg}};
+  report["points"] = analysis.scan_points;
+  report["valid_points"] = analysis.valid_points;
+  report["segments"] = analysis.segments.size();
+  report["candidate_planes"] = analysis.candidate_planes;
+  report["rejected_planes"] = analysis.planes.rejected;
+  auto planes = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
+    const Plane& plane = analysis.planes.planes[k];
+    const bool accepted =
+        std::find(result.map.accepted_ground.begin(), result.map.accepted_ground.end(), int(k)) !=
+        result.map.accepted_ground.end();
+    planes.push_back({{"normal", {plane.normal.x(), plane.normal.y(), plane.normal.z()}},
+                      {"offset", plane.offset},
+                      {"points", plane.support_points},
+                      {"area", plane.support_area},
+                      {"segments", plane.segments.size()},
+                      {"rms", plane.rms},
+                      {"kind", planeKindName(plane.kind)},
+                      {"reference_ground", int(k) == analysis.reference_ground},
+                      {"reachable_ground", accepted},
+                      {"validated", plane.validated}});
+  }
+  report["planes"] = planes;
+  nlohmann::ordered_json cells;
+  for (int label = 0; label < kCellLabelCount; ++label)
+    cells[std::string(labelName(CellLabel(label)))] = result.map.counts[std::size_t(label)];
+  report["cells"] = cells;
+  nlohmann::ordered_json timing;
+  for (const StageTiming& stage : result.timings)
+    timing[stage.stage] = stage.milliseconds;
+  timing["total"] = result.total_ms;
+  report["timing_ms"] = timing;
+  const Eigen::Matrix4d m = analysis.map_from_scanner.matrix();
+  std::vector<double> row_major;
+  for (int i = 0; i < 16; ++i)
+    row_major.push_back(m(i / 4, i % 4));
+  const MapGrid& grid = result.map.grid;
+  report["map"] = {
+      {"resolution", grid.resolution},
+      {"origin", {grid.origin.x(), grid.origin.y()}},
+      {"width", grid.width},
+      {"height", grid.height},
+      {"labels", "labels.pgm"},
+      {"label_values", {"unknown", "traversable", "careful", "obstacle", "impassable", "stairs"}},
+      {"map_from_scanner", row_major}};
+  report["point_classes"] = "point_classes.u8";
+  report["scene"] = {{"file", "scene.ply"},
+                     {"ground_triangles", result.scene.triangles.size()},
+                     {"wall_cuboids", result.scene.walls.size()},
+                     {"obstacle_cubes", result.scene.obstacles.size()}};
+  report["params"] = toJson(params);
+  return report.dump(2) + "\n";
+}
+
+void writeLabelsPgm(const TraversabilityMap& map, const std::filesystem::path& file) {
+  writePgm(file, map.grid.width, map.grid.height, topDown(map, identity));
+}
+
+void writeRosMap(const TraversabilityMap& map, const std::filesystem::path& pgm_file) {
+  writePgm(pgm_file, map.grid.width, map.grid.height, topDown(map, occupancy));
+  std::ostringstream yaml;
+  yaml << "image: " << pgm_file.filename().string() << "\nresolution: " << map.grid.resolution
+       << "\norigin: [" << map.grid.origin.x() << ", " << map.grid.origin.y() << ", 0.0]\n"
+       << "negate: 0\noccupied_thresh: 0.65\nfree_thresh: 0.196\n";
+  std::filesystem::path yaml_file = pgm_file;
+  yaml_file.replace_extension(".yaml");
+  writeTextFileAtomically(yaml_file, yaml.str());
+}
+
+void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file) {
+  cv::Mat image(std::max(map.grid.height, 1), std::max(map.grid.width, 1), CV_8UC3,
+                cv::Scalar(60, 60, 60));
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const auto rgb = labelColour(map.label(column, row));
+      image.at<cv::Vec3b>(map.grid.height - 1 - row, column) = cv::Vec3b(rgb[2], rgb[1], rgb[0]);
+    }
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", image, png)) throw ScanError(file, "cannot encode the PNG");
+  writeTextFileAtomically(file, std::string(png.begin(), png.end()));
+}
+
+void writeScenePly(const SceneGeometry& scene, const std::filesystem::path& file) {
+  struct Vertex {
+    float x, y, z;
+    std::uint8_t r, g, b;
+  };
+  std::vector<Vertex> vertices;
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  for (std::size_t i = 0; i < scene.vertices.size(); ++i) {
+    const auto c = labelColour(scene.vertex_labels[i]);
+    vertices.push_back(
+        {scene.vertices[i].x(), scene.vertices[i].y(), scene.vertices[i].z(), c[0], c[1], c[2]});
+  }
+  faces = scene.triangles;
+  auto addBox = [&](const SceneBox& box) {
+    const auto c = labelColour(box.label);
+    const auto base = std::uint32_t(vertices.size());
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3f sign((corner & 1) ? 1.F : -1.F, (corner & 2) ? 1.F : -1.F,
+                                 (corner & 4) ? 1.F : -1.F);
+      const Eigen::Vector3f p = box.center + box.axes * sign.cwiseProduct(box.half_size);
+      vertices.push_back({p.x(), p.y(), p.z(), c[0], c[1], c[2]});
+    }
+    static constexpr std::uint32_t kFaces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                                    {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                                    {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    for (const auto& f : kFaces)
+      faces.push_back({base + f[0], base + f[1], base + f[2]});
+  };
+  for (const SceneBox& box : scene.walls)
+    addBox(box);
+  for (const SceneBox& box : scene.obstacles)
+    addBox(box);
+
+  std::string bytes =
+      "ply\nformat binary_little_endian 1.0\ncomment Clearway traversability scene (scanner "
+      "frame)\n"
+      "element vertex " +
+      std::to_string(vertices.size()) +
+      "\nproperty float x\nproperty float y\nproperty float z\n"
+      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+      "element face " +
+      std::to_string(faces.size()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
+  for (const Vertex& v : vertices) {
+    const float xyz[3] = {v.x, v.y, v.z};
+    bytes.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
+    bytes.push_back(char(v.r));
+    bytes.push_back(char(v.g));
+    bytes.push_back(char(v.b));
+  }
+  for (const auto& f : faces) {
+    bytes.push_back(char(3));
+    bytes.append(reinterpret_cast<const char*>(f.data()), sizeof(std::uint32_t) * 3);
+  }
+  writeTextFileAtomically(file, bytes);
+}
+
+void writeResultFolder(const PipelineResult& result, const SegmentationParams& params,
+                       const std::string& scan_name, const std::filesystem::path& folder) {
+  std::error_code error;
+  std::filesystem::create_directories(folder, error);
+  if (error) throw ScanError(folder, "cannot create the output folder: " + error.message());
+  writeLabelsPgm(result.map, folder / "labels.pgm");
+  writeRosMap(result.map, folder / "map.pgm");
+  writeTraversabilityPng(result.map, folder / "traversability.png");
+  writeScenePly(result.scene, folder / "scene.ply");
+  std::string classes(result.point_classes.size(), '\0');
+  for (std::size_t i = 0; i < classes.size(); ++i)
+    classes[i] = char(result.point_classes[i]);
+  writeTextFileAtomically(folder / "point_classes.u8", classes);
+  // The report last: a folder with a report is a complete result.
+  writeTextFileAtomically(folder / "report.json", reportJson(result, params, scan_name));
+}
+
+}  // namespace clearway

@@ -1,0 +1,86 @@
+// Stage 4 (paper II-D): ground planes are planes no steeper than the robot can drive, with the
+// scanner above them (which removes ceilings). The one with the largest supported area is the
+// reference: the traversability map lies on it.
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "clearway/segmentation/scan_analysis.h"
+
+namespace clearway {
+
+Eigen::Vector3d upDirection(const Scan& scan) {
+  if (!scan.sensor_pose) return Eigen::Vector3d::UnitZ();
+  const auto& r = scan.sensor_pose->rotation;
+  // Row 2 of world_from_scanner is world z expressed in the scanner frame.
+  return Eigen::Vector3d(r[6], r[7], r[8]).normalized();
+}
+
+void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
+  const double cos_max_slope = std::cos(params.max_slope_deg * std::numbers::pi / 180.0);
+  analysis.ground_planes.clear();
+  analysis.reference_ground = -1;
+  double best_area = 0.0;
+  for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
+    Plane& plane = analysis.planes.planes[k];
+    // The plane's normal turned to point up, and the scanner's height above the plane.
+    const double facing = plane.normal.dot(analysis.up);
+    const double cos_slope = std::abs(facing);
+    const double scanner_height = facing < 0 ? plane.offset : -plane.offset;
+    if (cos_slope < cos_max_slope) {
+      plane.kind = PlaneKind::kWall;
+    } else if (scanner_height < 0) {
+      plane.kind = PlaneKind::kCeiling;
+    } else if (scanner_height < params.min_scanner_height) {
+      plane.kind = PlaneKind::kOther;
+    } else {
+      plane.kind = PlaneKind::kGround;
+      analysis.ground_planes.push_back(int(k));
+      if (plane.support_area > best_area) {
+        best_area = plane.support_area;
+        analysis.reference_ground = int(k);
+      }
+    }
+  }
+  analysis.ground_found = analysis.reference_ground >= 0;
+  if (!analysis.ground_found) {
+    analysis.reason =
+        "no ground plane found: no validated plane below the scanner is flatter than " +
+        std::to_string(int(params.max_slope_deg)) +
+        " deg (is the floor out of view? move the robot or the arm and scan again)";
+    return;
+  }
+  std::stable_partition(analysis.ground_planes.begin(), analysis.ground_planes.end(),
+                        [&](int k) { return k == analysis.reference_ground; });
+
+  // Map frame: on the reference plane under the scanner, z along the plane's upward normal,
+  // x along the scanner's x axis (or y, if x is nearly vertical) projected onto the plane.
+  const Plane& reference = analysis.planes.planes[std::size_t(analysis.reference_ground)];
+  const Eigen::Vector3d z =
+      reference.normal.dot(analysis.up) < 0 ? -reference.normal : reference.normal;
+  Eigen::Vector3d x = Eigen::Vector3d::UnitX() - z.x() * z;
+  if (x.norm() < 0.3) x = Eigen::Vector3d::UnitY() - z.y() * z;
+  x.normalize();
+  const Eigen::Vector3d y = z.cross(x);
+  Eigen::Matrix3d
+      rotation;  // map_from_scanner rotation: rows are the map axes in the scanner frame
+  rotation.row(0) = x.transpose();
+  rotation.row(1) = y.transpose();
+  rotation.row(2) = z.transpose();
+  // The scanner sits at map (0, 0, height): the map origin is its foot on the reference plane.
+  const double scanner_height = std::abs(reference.offset);
+  analysis.map_from_scanner = Eigen::Isometry3d::Identity();
+  analysis.map_from_scanner.linear() = rotation;
+  analysis.map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, scanner_height);
+}
+
+double ScanAnalysis::planeHeight(int plane, double x, double y) const {
+  const Plane& p = planes.planes[std::size_t(plane)];
+  const Eigen::Vector3d normal = map_from_scanner.linear() * p.normal;
+  const double offset = p.offset + normal.dot(map_from_scanner.translation());
+  return (offset - normal.x() * x - normal.y() * y) / normal.z();
+}
+
+}  // namespace clearway

@@ -1,0 +1,182 @@
+// The robot-independent part of the traversability map: which cells are observed ground of which
+// plane (gap-free across scan rings, never across shadows), every other point with its height
+// above the local ground, and where ground planes meet.
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "clearway/segmentation/scan_analysis.h"
+
+namespace clearway {
+namespace {
+
+// Neighbouring lines are paired point by point: same index for organised scans, same relative
+// position along the line for ragged ones.
+std::size_t partner(const ScanLine& from, const ScanLine& to, std::size_t k) {
+  if (from.count == to.count) return to.first + k;
+  const std::size_t scaled = (k * to.count + from.count / 2) / std::max<std::size_t>(from.count, 1);
+  return to.first + std::min(scaled, to.count - 1);
+}
+
+// Ground triangles between neighbouring scan lines whose three corners are ground of the same
+// plane and close together: they cover sampling gaps but cannot bridge a shadow, because inside a
+// shadow the neighbouring beam hit the obstacle, not the ground.
+std::vector<std::array<std::uint32_t, 3>> groundTriangles(
+    const Scan& scan, const std::vector<std::int32_t>& ground_of, double max_edge) {
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  const double max_edge_squared = max_edge * max_edge;
+  auto close = [&](std::size_t a, std::size_t b) {
+    const Point3f& p = scan.points[a];
+    const Point3f& q = scan.points[b];
+    const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+    return dx * dx + dy * dy + dz * dz <= max_edge_squared;
+  };
+  auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
+    const std::int32_t g = ground_of[a];
+    if (g < 0 || ground_of[b] != g || ground_of[c] != g) return;
+    if (!close(a, b) || !close(b, c) || !close(a, c)) return;
+    triangles.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+  };
+  const std::size_t lines = scan.lines.size();
+  // A RoSi revolution closes on itself: its last line neighbours its first.
+  const bool revolution = lines > 2 && std::isfinite(scan.lines.front().beta) && scan.isOrganised();
+  for (std::size_t l = 0; l + 1 < lines + (revolution ? 1 : 0); ++l) {
+    const ScanLine& a = scan.lines[l];
+    const ScanLine& b = scan.lines[(l + 1) % lines];
+    for (std::size_t k = 0; k + 1 < a.count; ++k) {
+      const std::size_t a0 = a.first + k, a1 = a0 + 1;
+      const std::size_t b0 = partner(a, b, k), b1 = partner(a, b, k + 1);
+      add(a0, a1, b0);
+      if (b1 != b0) add(a1, b1, b0);
+    }
+  }
+  return triangles;
+}
+
+}  // namespace
+
+void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAnalysis& analysis) {
+  MapInputs& inputs = analysis.inputs;
+  inputs = MapInputs{};
+  if (!analysis.ground_found) return;
+  const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
+  const auto& point_plane = analysis.planes.point_plane;
+
+  // Which ground candidate each point belongs to (-1: not ground).
+  std::vector<std::int32_t> ground_of(scan.size(), -1);
+  std::vector<bool> is_ground_plane(analysis.planes.planes.size(), false);
+  for (int g : analysis.ground_planes)
+    is_ground_plane[std::size_t(g)] = true;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (point_plane[i] >= 0 && is_ground_plane[std::size_t(point_plane[i])])
+      ground_of[i] = point_plane[i];
+
+  // The grid covers the ground seen, plus room for the robot at its edge, within max_extent.
+  Eigen::AlignedBox2d box;
+  std::vector<Eigen::Vector3d> mapped(scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    const Point3f& p = scan.points[i];
+    mapped[i] = map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+    if (ground_of[i] >= 0 && mapped[i].head<2>().norm() <= params.map.max_extent)
+      box.extend(mapped[i].head<2>());
+  }
+  if (box.isEmpty()) box.extend(Eigen::Vector2d::Zero());
+  const double margin = std::hypot(params.robot.width, params.robot.length);
+  MapGrid& grid = inputs.grid;
+  grid.resolution = params.map.resolution;
+  grid.origin = (box.min().array() - margin).matrix();
+  grid.width = int(std::ceil((box.max().x() - box.min().x() + 2 * margin) / grid.resolution)) + 1;
+  grid.height = int(std::ceil((box.max().y() - box.min().y() + 2 * margin) / grid.resolution)) + 1;
+  inputs.ground_plane.assign(grid.cells(), -1);
+  inputs.ground_height.assign(grid.cells(), 0.0F);
+
+  auto markGround = [&](int column, int row, int plane) {
+    if (!grid.inside(column, row)) return;
+    const std::size_t cell = grid.index(column, row);
+    if (inputs.ground_plane[cell] >= 0) return;
+    const Eigen::Vector2d centre = grid.centre(column, row);
+    inputs.ground_plane[cell] = std::int16_t(plane);
+    inputs.ground_height[cell] = float(analysis.planeHeight(plane, centre.x(), centre.y()));
+  };
+
+  // Cells holding ground points, then the cells the ground triangles cover.
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (ground_of[i] < 0) continue;
+    const Eigen::Vector2i cell = grid.cellOf(mapped[i].x(), mapped[i].y());
+    markGround(cell.x(), cell.y(), ground_of[i]);
+  }
+  inputs.ground_triangles = groundTriangles(scan, ground_of, params.map.max_triangle_edge);
+  for (const auto& triangle : inputs.ground_triangles) {
+    const Eigen::Vector2d a = mapped[triangle[0]].head<2>(), b = mapped[triangle[1]].head<2>(),
+                          c = mapped[triangle[2]].head<2>();
+    const Eigen::Vector2i low =
+        grid.cellOf(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}));
+    const Eigen::Vector2i high =
+        grid.cellOf(std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}));
+    if (low == high) continue;  // inside one cell: its corners marked it already
+    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
+    if (std::abs(area) < 1e-12) continue;
+    for (int row = low.y(); row <= high.y(); ++row) {
+      for (int column = low.x(); column <= high.x(); ++column) {
+        const Eigen::Vector2d p = grid.centre(column, row);
+        const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
+        const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
+        if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) markGround(column, row, ground_of[triangle[0]]);
+      }
+    }
+  }
+
+  // Every other point, with its height above the ground beneath it.
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i) || ground_of[i] >= 0) continue;
+    const Eigen::Vector3d& m = mapped[i];
+    const Eigen::Vector2i cell = grid.cellOf(m.x(), m.y());
+    if (!grid.inside(cell.x(), cell.y())) continue;
+    const std::size_t index = grid.index(cell.x(), cell.y());
+    double ground = 0.0;
+    if (inputs.ground_plane[index] >= 0) {
+      ground = inputs.ground_height[index];
+    } else {
+      // Under an obstacle the ground is hidden: take the highest ground plane below the point
+      // whose real area reaches there, or the reference plane.
+      ground = analysis.planeHeight(analysis.reference_ground, m.x(), m.y());
+      for (int g : analysis.ground_planes) {
+        const double h = analysis.planeHeight(g, m.x(), m.y());
+        if (h <= m.z() + 0.05 && h > ground) {
+          const Eigen::Vector3d on_plane =
+              map_from_scanner.inverse() * Eigen::Vector3d(m.x(), m.y(), h);
+          if (analysis.planes.supports[std::size_t(g)].contains(on_plane)) ground = h;
+        }
+      }
+    }
+    inputs.obstacles.push_back(
+        {std::uint32_t(index), float(m.x()), float(m.y()), float(m.z()), float(m.z() - ground)});
+  }
+
+  // Where cells of two ground planes touch, and the smallest step between them.
+  std::map<std::pair<int, int>, float> steps;
+  for (int row = 0; row < grid.height; ++row) {
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t here = grid.index(column, row);
+      const int a = inputs.ground_plane[here];
+      if (a < 0) continue;
+      for (const auto& [dc, dr] : {std::pair{1, 0}, std::pair{0, 1}}) {
+        if (!grid.inside(column + dc, row + dr)) continue;
+        const std::size_t there = grid.index(column + dc, row + dr);
+        const int b = inputs.ground_plane[there];
+        if (b < 0 || b == a) continue;
+        const float step = std::abs(inputs.ground_height[here] - inputs.ground_height[there]);
+        const auto key = std::minmax(a, b);
+        const auto it = steps.find(key);
+        if (it == steps.end() || step < it->second) steps[key] = step;
+      }
+    }
+  }
+  for (const auto& [key, step] : steps)
+    inputs.contacts.push_back({key.first, key.second, step});
+}
+
+}  // namespace clearway

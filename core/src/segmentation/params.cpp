@@ -1,0 +1,226 @@
+#include "clearway/segmentation/params.h"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <variant>
+
+#include "clearway/io/file_util.h"
+
+namespace clearway {
+namespace {
+
+// One numeric parameter: where it lives, what it means, what values make sense.
+using Field = std::variant<double*, int*>;
+struct Entry {
+  const char* key;
+  const char* description;
+  double minimum;
+  double maximum;
+  Field (*field)(SegmentationParams&);
+};
+
+const std::vector<Entry>& entries() {
+  static const std::vector<Entry> kEntries = {
+      {"lines.max_deviation", "Split a segment where a point is this far from it [m]", 0.001, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.lines.max_deviation; }},
+      {"lines.deviation_per_metre", "Extra split distance per metre of range [m/m]", 0.0, 0.1,
+       [](SegmentationParams& p) -> Field { return &p.lines.deviation_per_metre; }},
+      {"lines.max_gap", "Break segments at gaps larger than this [m]", 0.01, 5.0,
+       [](SegmentationParams& p) -> Field { return &p.lines.max_gap; }},
+      {"lines.gap_per_metre", "Extra gap allowance per metre of range [m/m]", 0.0, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.lines.gap_per_metre; }},
+      {"lines.min_points", "Fewest points in a segment", 2, 1000,
+       [](SegmentationParams& p) -> Field { return &p.lines.min_points; }},
+      {"lines.min_length", "Shortest segment [m]", 0.0, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.lines.min_length; }},
+      {"lines.hough_angle_step_deg", "Hough angle resolution [deg]", 0.1, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.lines.hough_angle_step_deg; }},
+      {"lines.hough_distance_step", "Hough distance resolution [m]", 0.005, 0.5,
+       [](SegmentationParams& p) -> Field { return &p.lines.hough_distance_step; }},
+      {"clustering.neighbour_lines", "Scan lines ahead a segment is compared with", 1, 50,
+       [](SegmentationParams& p) -> Field { return &p.clustering.neighbour_lines; }},
+      {"clustering.max_angle_deg", "Largest angle between similar segments [deg]", 0.5, 90.0,
+       [](SegmentationParams& p) -> Field { return &p.clustering.max_angle_deg; }},
+      {"clustering.max_distance", "Largest endpoint distance of similar segments [m]", 0.01, 5.0,
+       [](SegmentationParams& p) -> Field { return &p.clustering.max_distance; }},
+      {"clustering.distance_per_metre", "Extra endpoint distance per metre of range [m/m]", 0.0,
+       1.0, [](SegmentationParams& p) -> Field { return &p.clustering.distance_per_metre; }},
+      {"clustering.plane_distance", "A segment joins a plane when this close [m]", 0.005, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.clustering.plane_distance; }},
+      {"clustering.plane_distance_per_metre", "Extra plane distance per metre of range [m/m]", 0.0,
+       0.1, [](SegmentationParams& p) -> Field { return &p.clustering.plane_distance_per_metre; }},
+      {"clustering.refit_every", "Refit the plane after this many new segments", 1, 1000,
+       [](SegmentationParams& p) -> Field { return &p.clustering.refit_every; }},
+      {"clustering.min_segments", "Segments a plane needs (paper: 25)", 3, 10000,
+       [](SegmentationParams& p) -> Field { return &p.clustering.min_segments; }},
+      {"clustering.merge_angle_deg", "Merge clusters whose planes differ less than this [deg]", 0.0,
+       30.0, [](SegmentationParams& p) -> Field { return &p.clustering.merge_angle_deg; }},
+      {"clustering.merge_distance", "... and whose offsets differ less than this [m]", 0.0, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.clustering.merge_distance; }},
+      {"validation.support_distance", "Supporting points lie this close to a plane [m]", 0.005, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.validation.support_distance; }},
+      {"validation.cell_size", "Support image cell size [m]", 0.02, 2.0,
+       [](SegmentationParams& p) -> Field { return &p.validation.cell_size; }},
+      {"validation.min_cell_points", "Supporting points a cell needs", 1, 1000,
+       [](SegmentationParams& p) -> Field { return &p.validation.min_cell_points; }},
+      {"validation.min_area", "Smallest connected supported area of a real plane [m^2]", 0.0,
+       1000.0, [](SegmentationParams& p) -> Field { return &p.validation.min_area; }},
+      {"validation.max_image_cells", "Largest support image [cells]", 1000, 1e8,
+       [](SegmentationParams& p) -> Field { return &p.validation.max_image_cells; }},
+      {"ground.max_slope_deg", "Steepest drivable slope [deg]", 0.0, 89.0,
+       [](SegmentationParams& p) -> Field { return &p.ground.max_slope_deg; }},
+      {"ground.min_scanner_height", "The scanner is at least this far above the ground [m]", 0.0,
+       10.0, [](SegmentationParams& p) -> Field { return &p.ground.min_scanner_height; }},
+      {"map.resolution", "Traversability cell size [m]", 0.01, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.map.resolution; }},
+      {"map.orientations", "Robot orientations tried over 180 deg", 1, 180,
+       [](SegmentationParams& p) -> Field { return &p.map.orientations; }},
+      {"map.max_triangle_edge", "Ground triangles never bridge more than this [m]", 0.05, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.map.max_triangle_edge; }},
+      {"map.obstacle_min_height", "Points lower than this above ground are ground [m]", 0.0, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.map.obstacle_min_height; }},
+      {"map.max_extent", "Map half-size around the scanner [m]", 1.0, 500.0,
+       [](SegmentationParams& p) -> Field { return &p.map.max_extent; }},
+      {"map.fine_factor", "How much finer the narrow-passage check is", 1.0, 16.0,
+       [](SegmentationParams& p) -> Field { return &p.map.fine_factor; }},
+      {"robot.width", "Robot width [m]", 0.05, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.width; }},
+      {"robot.length", "Robot length [m]", 0.05, 20.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.length; }},
+      {"robot.height", "Robot height [m]", 0.05, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.height; }},
+      {"robot.max_step", "Highest obstacle the robot drives over [m]", 0.0, 2.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.max_step; }},
+  };
+  return kEntries;
+}
+
+const Entry& entryFor(const std::string& key) {
+  for (const Entry& entry : entries())
+    if (key == entry.key) return entry;
+  throw std::invalid_argument("unknown parameter '" + key + "'");
+}
+
+bool isInteger(const Entry& entry) {
+  SegmentationParams scratch;
+  return std::holds_alternative<int*>(entry.field(scratch));
+}
+
+}  // namespace
+
+double parameterValue(const SegmentationParams& params, const std::string& key) {
+  // The table hands out pointers into a params object; reading through them changes nothing.
+  const Field field = entryFor(key).field(const_cast<SegmentationParams&>(params));
+  return std::visit([](auto* value) { return double(*value); }, field);
+}
+
+void setParameterValue(SegmentationParams& params, const std::string& key, double value) {
+  const Field field = entryFor(key).field(params);
+  if (auto* integer = std::get_if<int*>(&field)) {
+    **integer = int(std::lround(value));
+  } else {
+    *std::get<double*>(field) = value;
+  }
+}
+
+std::vector<ParameterInfo> describeParameters() {
+  const SegmentationParams defaults;
+  std::vector<ParameterInfo> infos;
+  for (const Entry& entry : entries())
+    infos.push_back({entry.key, entry.description, entry.minimum, entry.maximum,
+                     parameterValue(defaults, entry.key), isInteger(entry)});
+  return infos;
+}
+
+std::vector<std::string> SegmentationParams::validate() const {
+  std::vector<std::string> reasons;
+  for (const Entry& entry : entries()) {
+    const double value = parameterValue(*this, entry.key);
+    if (!std::isfinite(value) || value < entry.minimum || value > entry.maximum)
+      reasons.push_back(std::string(entry.key) + " = " + std::to_string(value) + " is outside " +
+                        std::to_string(entry.minimum) + " .. " + std::to_string(entry.maximum));
+  }
+  if (robot.max_step >= robot.height)
+    reasons.push_back("robot.max_step must be lower than robot.height");
+  if (map.resolution * 4 > std::min(robot.width, robot.length))
+    reasons.push_back("map.resolution must be at most a quarter of the robot's width and length");
+  if (validation.support_distance < 0.5 * clustering.plane_distance)
+    reasons.push_back(
+        "validation.support_distance should not be much tighter than clustering.plane_distance");
+  return reasons;
+}
+
+std::vector<RobotParams> robotPresets() {
+  return {{"LMF smallest", 0.85, 1.2, 1.5, 0.1},
+          {"LMF arm out (wide)", 1.0, 1.2, 1.5, 0.1},
+          {"LMF arm raised (tall)", 0.85, 1.2, 2.1, 0.1}};
+}
+
+nlohmann::json toJson(const SegmentationParams& params) {
+  nlohmann::json json;
+  for (const Entry& entry : entries()) {
+    const std::string key = entry.key;
+    const auto dot = key.find('.');
+    const double value = parameterValue(params, key);
+    if (isInteger(entry)) {
+      json[key.substr(0, dot)][key.substr(dot + 1)] = std::lround(value);
+    } else {
+      json[key.substr(0, dot)][key.substr(dot + 1)] = value;
+    }
+  }
+  json["lines"]["method"] = params.lines.method == LineMethod::kHough ? "hough" : "split_and_merge";
+  json["robot"]["name"] = params.robot.name;
+  return json;
+}
+
+SegmentationParams paramsFromJson(const nlohmann::json& json) {
+  if (!json.is_object()) throw std::invalid_argument("parameters must be a JSON object");
+  SegmentationParams params;
+  for (const auto& [section, values] : json.items()) {
+    if (!values.is_object()) throw std::invalid_argument("'" + section + "' must be an object");
+    for (const auto& [name, value] : values.items()) {
+      const std::string key = section + "." + name;
+      if (key == "lines.method") {
+        const std::string method = value.get<std::string>();
+        if (method == "hough")
+          params.lines.method = LineMethod::kHough;
+        else if (method == "split_and_merge")
+          params.lines.method = LineMethod::kSplitAndMerge;
+        else
+          throw std::invalid_argument("lines.method must be split_and_merge or hough");
+        continue;
+      }
+      if (key == "robot.name") {
+        params.robot.name = value.get<std::string>();
+        continue;
+      }
+      if (!value.is_number()) throw std::invalid_argument(key + " must be a number");
+      setParameterValue(params, key, value.get<double>());
+    }
+  }
+  return params;
+}
+
+SegmentationParams loadParams(const std::filesystem::path& file) {
+  std::ifstream stream(file);
+  if (!stream) throw std::invalid_argument(file.string() + ": cannot open the parameter file");
+  try {
+    SegmentationParams params = paramsFromJson(nlohmann::json::parse(stream));
+    if (const auto reasons = params.validate(); !reasons.empty())
+      throw std::invalid_argument(reasons.front());
+    return params;
+  } catch (const nlohmann::json::exception& error) {
+    throw std::invalid_argument(file.string() + ": " + error.what());
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(file.string() + ": " + error.what());
+  }
+}
+
+void saveParams(const SegmentationParams& params, const std::filesystem::path& file) {
+  writeTextFileAtomically(file, toJson(params).dump(2) + "\n");
+}
+
+}  // namespace clearway

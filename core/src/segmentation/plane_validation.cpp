@@ -1,0 +1,146 @@
+// Stage 3: a plane is real only if its supporting points cover a connected area of some size on
+// the plane (paper II-C). Phantom planes that cut through real ones collect support only along
+// thin intersection lines, which the morphological opening removes before the area is measured.
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "clearway/segmentation/planes.h"
+#include "parallel.h"
+
+namespace clearway {
+namespace {
+
+// Supporting point indices of a plane.
+std::vector<std::uint32_t> supportingPoints(const Scan& scan, const Plane& plane, double distance) {
+  const float nx = float(plane.normal.x()), ny = float(plane.normal.y()),
+              nz = float(plane.normal.z());
+  const float offset = float(plane.offset), tolerance = float(distance);
+  std::vector<std::uint32_t> support;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Point3f& p = scan.points[i];
+    if (std::abs(nx * p.x + ny * p.y + nz * p.z - offset) <= tolerance && scan.isValid(i))
+      support.push_back(std::uint32_t(i));
+  }
+  return support;
+}
+
+// Builds the support image and returns the area of its largest connected supported region.
+double buildSupportImage(const Scan& scan, const Plane& plane,
+                         const std::vector<std::uint32_t>& support, const ValidationParams& params,
+                         SupportImage& image) {
+  image.u_axis = plane.normal.unitOrthogonal();
+  image.v_axis = plane.normal.cross(image.u_axis);
+  image.cell = params.cell_size;
+  // The image covers the plane's own points' surroundings, clipped to a sane size.
+  const Eigen::Vector3d centre = plane.moments.mean();
+  double u_min = 1e300, u_max = -1e300, v_min = 1e300, v_max = -1e300;
+  std::vector<Eigen::Vector2d> uv;
+  uv.reserve(support.size());
+  for (std::uint32_t i : support) {
+    const Point3f& p = scan.points[i];
+    const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - centre;
+    uv.emplace_back(q.dot(image.u_axis), q.dot(image.v_axis));
+    u_min = std::min(u_min, uv.back().x());
+    u_max = std::max(u_max, uv.back().x());
+    v_min = std::min(v_min, uv.back().y());
+    v_max = std::max(v_max, uv.back().y());
+  }
+  const double max_side = std::sqrt(double(params.max_image_cells)) * params.cell_size / 2.0;
+  u_min = std::max(u_min, -max_side);
+  v_min = std::max(v_min, -max_side);
+  u_max = std::min(u_max, max_side);
+  v_max = std::min(v_max, max_side);
+  image.u0 = u_min + centre.dot(image.u_axis);
+  image.v0 = v_min + centre.dot(image.v_axis);
+  image.width = std::max(1, int(std::ceil((u_max - u_min) / params.cell_size)) + 1);
+  image.height = std::max(1, int(std::ceil((v_max - v_min) / params.cell_size)) + 1);
+
+  cv::Mat counts(image.height, image.width, CV_16UC1, cv::Scalar(0));
+  for (const Eigen::Vector2d& q : uv) {
+    const int column = int((q.x() - u_min) / params.cell_size);
+    const int row = int((q.y() - v_min) / params.cell_size);
+    if (column < 0 || row < 0 || column >= image.width || row >= image.height) continue;
+    auto& count = counts.at<std::uint16_t>(row, column);
+    if (count < 65535) ++count;
+  }
+  cv::Mat supported = counts >= params.min_cell_points;  // CV_8U, 255 where supported
+  cv::morphologyEx(supported, supported, cv::MORPH_OPEN,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+  cv::Mat labels, stats, centroids;
+  const int components =
+      cv::connectedComponentsWithStats(supported, labels, stats, centroids, 8, CV_32S);
+  const double cell_area = params.cell_size * params.cell_size;
+  const int min_cells = std::max(1, int(std::ceil(params.min_area / cell_area)));
+  int largest = 0;
+  std::vector<bool> keep(std::size_t(components), false);
+  for (int c = 1; c < components; ++c) {
+    const int area = stats.at<int>(c, cv::CC_STAT_AREA);
+    largest = std::max(largest, area);
+    keep[std::size_t(c)] = area >= min_cells;
+  }
+  image.kept.assign(std::size_t(image.width) * std::size_t(image.height), 0);
+  for (int row = 0; row < image.height; ++row)
+    for (int column = 0; column < image.width; ++column)
+      if (keep[std::size_t(labels.at<int>(row, column))])
+        image.kept[std::size_t(row) * std::size_t(image.width) + std::size_t(column)] = 1;
+  return largest * cell_area;
+}
+
+}  // namespace
+
+bool SupportImage::contains(const Eigen::Vector3d& p) const {
+  const int column = int(std::floor((p.dot(u_axis) - u0) / cell));
+  const int row = int(std::floor((p.dot(v_axis) - v0) / cell));
+  if (column < 0 || row < 0 || column >= width || row >= height) return false;
+  return kept[std::size_t(row) * std::size_t(width) + std::size_t(column)] != 0;
+}
+
+ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
+                               const ValidationParams& params, int threads) {
+  std::vector<SupportImage> images(candidates.size());
+  std::vector<std::vector<std::uint32_t>> supports(candidates.size());
+  detail::parallelChunks(
+      candidates.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t k = begin; k < end; ++k) {
+          Plane& plane = candidates[k];
+          supports[k] = supportingPoints(scan, plane, params.support_distance);
+          plane.support_points = supports[k].size();
+          const double area = supports[k].empty()
+                                  ? 0.0
+                                  : buildSupportImage(scan, plane, supports[k], params, images[k]);
+          plane.support_area = area;
+          plane.validated = area >= params.min_area;
+        }
+      });
+
+  ValidatedPlanes result;
+  result.point_plane.assign(scan.size(), -1);
+  std::vector<float> best_distance(scan.size(), std::numeric_limits<float>::max());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (!candidates[k].validated) {
+      ++result.rejected;
+      continue;
+    }
+    const auto index = std::int32_t(result.planes.size());
+    const Plane& plane = candidates[k];
+    const SupportImage& image = images[k];
+    // A point belongs to the nearest plane that supports it inside that plane's real area.
+    for (std::uint32_t i : supports[k]) {
+      const Point3f& p = scan.points[i];
+      const Eigen::Vector3d q(p.x, p.y, p.z);
+      const float distance = float(std::abs(plane.signedDistance(q)));
+      if (distance < best_distance[i] && image.contains(q)) {
+        best_distance[i] = distance;
+        result.point_plane[i] = index;
+      }
+    }
+    result.planes.push_back(std::move(candidates[k]));
+    result.supports.push_back(std::move(images[k]));
+  }
+  return result;
+}
+
+}  // namespace clearway

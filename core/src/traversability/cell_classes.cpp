@@ -1,0 +1,124 @@
+#include "cell_classes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+
+namespace clearway::detail {
+namespace {
+
+// Ground planes reachable from the reference through contacts no higher than the robot's step.
+std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) {
+  std::vector<int> accepted = {analysis.reference_ground};
+  std::queue<int> frontier;
+  frontier.push(analysis.reference_ground);
+  while (!frontier.empty()) {
+    const int plane = frontier.front();
+    frontier.pop();
+    for (const GroundContact& contact : analysis.inputs.contacts) {
+      if (contact.step > max_step) continue;
+      const int other = contact.a == plane ? contact.b : (contact.b == plane ? contact.a : -1);
+      if (other < 0 || std::find(accepted.begin(), accepted.end(), other) != accepted.end())
+        continue;
+      accepted.push_back(other);
+      frontier.push(other);
+    }
+  }
+  return accepted;
+}
+
+// An overhang is "too low" when the lowest thing in the way is above this share of the robot.
+constexpr double kOverhangShare = 0.5;
+
+}  // namespace
+
+CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
+                          const MapParams& params) {
+  const MapInputs& inputs = analysis.inputs;
+  const MapGrid& grid = inputs.grid;
+  const std::size_t cells = grid.cells();
+  CellClasses classes;
+  classes.state.assign(cells, CellState::kUnknown);
+  classes.reason.assign(cells, CellReason::kNone);
+  classes.blocked_by_points_only.assign(cells, 0);
+  classes.accepted_ground = reachableGround(analysis, robot.max_step);
+  std::vector<bool> accepted(analysis.planes.planes.size(), false);
+  for (int g : classes.accepted_ground)
+    accepted[std::size_t(g)] = true;
+
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    const int plane = inputs.ground_plane[cell];
+    if (plane < 0) continue;
+    if (accepted[std::size_t(plane)]) {
+      classes.state[cell] = CellState::kGround;
+    } else {
+      classes.state[cell] = CellState::kBlocked;
+      classes.reason[cell] = CellReason::kOtherLevel;
+    }
+  }
+
+  // Points: low ones are passable obstacles; those between the step and the robot's height
+  // block; a drop deeper than a step blocks too. Overhead points do not matter.
+  std::vector<float> lowest_block(cells, std::numeric_limits<float>::max());
+  std::vector<std::uint32_t> blocking_count(cells, 0);
+  const float min_height = float(params.obstacle_min_height);
+  const float step = float(robot.max_step), top = float(robot.height);
+  auto blocks = [&](const MapObstacle& o) {
+    return (o.height > step && o.height < top) || o.height < -step;
+  };
+  for (const MapObstacle& o : inputs.obstacles) {
+    if (blocks(o)) {
+      lowest_block[o.cell] = std::min(lowest_block[o.cell], std::abs(o.height));
+      ++blocking_count[o.cell];
+      if (o.height < -step) classes.reason[o.cell] = CellReason::kTooSteep;
+    } else if (o.height > min_height && o.height <= step &&
+               classes.state[o.cell] != CellState::kBlocked) {
+      classes.state[o.cell] = CellState::kLowObstacle;
+    }
+  }
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    if (blocking_count[cell] == 0) continue;
+    const bool was_blocked = classes.state[cell] == CellState::kBlocked;
+    classes.state[cell] = CellState::kBlocked;
+    if (classes.reason[cell] != CellReason::kTooSteep)
+      classes.reason[cell] = lowest_block[cell] > kOverhangShare * robot.height
+                                 ? CellReason::kTooLow
+                                 : CellReason::kWall;
+    classes.blocked_by_points_only[cell] = was_blocked ? 0 : 1;
+  }
+
+  // Steps between ground cells higher than the robot can take.
+  for (int row = 0; row < grid.height; ++row) {
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t here = grid.index(column, row);
+      if (classes.state[here] != CellState::kGround) continue;
+      for (const auto& [dc, dr] :
+           {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}}) {
+        if (!grid.inside(column + dc, row + dr)) continue;
+        const std::size_t there = grid.index(column + dc, row + dr);
+        if (inputs.ground_plane[there] < 0) continue;
+        if (std::abs(inputs.ground_height[here] - inputs.ground_height[there]) > robot.max_step) {
+          classes.state[here] = CellState::kBlocked;
+          classes.reason[here] = CellReason::kTooSteep;
+          break;
+        }
+      }
+    }
+  }
+
+  // Blocking points in CSR layout for the exact narrow-passage check.
+  classes.point_start.assign(cells + 1, 0);
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    classes.point_start[cell + 1] = classes.point_start[cell] + blocking_count[cell];
+  classes.xs.resize(classes.point_start[cells]);
+  classes.ys.resize(classes.point_start[cells]);
+  std::vector<std::uint32_t> fill(classes.point_start.begin(), classes.point_start.end() - 1);
+  for (const MapObstacle& o : inputs.obstacles) {
+    if (!blocks(o)) continue;
+    classes.xs[fill[o.cell]] = o.x;
+    classes.ys[fill[o.cell]++] = o.y;
+  }
+  return classes;
+}
+
+}  // namespace clearway::detail

@@ -1,0 +1,30 @@
+#pragma once
+
+// The robot-height part of the map: what each cell is before the robot's box is moved over it.
+
+#include <cstdint>
+#include <vector>
+
+#include "clearway/segmentation/scan_analysis.h"
+#include "clearway/traversability/traversability_map.h"
+
+namespace clearway::detail {
+
+enum class CellState : std::uint8_t { kUnknown, kGround, kLowObstacle, kBlocked };
+
+struct CellClasses {
+  std::vector<CellState> state;
+  std::vector<CellReason> reason;
+  // Blocked only by measured points (their exact positions are known), not by unknown areas,
+  // other levels or steps: the narrow-passage check can look at the points themselves.
+  std::vector<std::uint8_t> blocked_by_points_only;
+  // Blocking points per cell, as ranges into xs/ys (CSR layout).
+  std::vector<std::uint32_t> point_start;
+  std::vector<float> xs, ys;
+  std::vector<int> accepted_ground;
+};
+
+CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
+                          const MapParams& params);
+
+}  // namespace clearway::detail

@@ -1,0 +1,254 @@
+// Moving the robot's box over the map (paper II-D): a cell is traversable when the box centred
+// there fits in at least one orientation. The paper's coarse / enlarged / fine steps decide narrow
+// passages: fits with half a cell to spare -> green; fits only against the exact point positions
+// -> orange ("careful"); otherwise too narrow.
+
+#include "clearway/traversability/traversability_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "../segmentation/parallel.h"
+#include "cell_classes.h"
+
+namespace clearway {
+namespace {
+
+using detail::CellClasses;
+using detail::CellState;
+
+struct Offset {
+  int dx, dy;
+  float radius;  // cells
+};
+
+// Integer cell offsets whose centres lie in a rectangle of half sizes (along, across) [cells]
+// turned by yaw, outermost last.
+std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const int reach = int(std::ceil(std::hypot(along, across)));
+  std::vector<Offset> offsets;
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx)
+      if (std::abs(dx * c + dy * s) <= along && std::abs(-dx * s + dy * c) <= across)
+        offsets.push_back({dx, dy, float(std::hypot(dx, dy))});
+  std::sort(offsets.begin(), offsets.end(),
+            [](const Offset& a, const Offset& b) { return a.radius < b.radius; });
+  return offsets;
+}
+
+struct Footprints {
+  std::vector<std::vector<Offset>> enlarged;  // nominal + half a cell on every side
+  std::vector<std::vector<Offset>> reach;     // every cell that may hold a point inside the box
+  std::vector<double> yaw;
+  double inner_radius = 0.0;  // cells: inside this the box is blocked in every orientation
+  double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
+};
+
+Footprints makeFootprints(const RobotParams& robot, const MapParams& params) {
+  Footprints f;
+  const double along = robot.length / 2 / params.resolution,
+               across = robot.width / 2 / params.resolution;
+  for (int k = 0; k < params.orientations; ++k) {
+    const double yaw = std::numbers::pi * k / params.orientations;
+    f.yaw.push_back(yaw);
+    f.enlarged.push_back(rectangleOffsets(along + 0.5, across + 0.5, yaw));
+    // A cell's points lie within half a diagonal (0.71 cells) of its centre.
+    f.reach.push_back(rectangleOffsets(along + 0.75, across + 0.75, yaw));
+  }
+  f.inner_radius = across;
+  f.outer_radius = std::hypot(along + 0.5, across + 0.5);
+  return f;
+}
+
+class FootprintTester {
+ public:
+  FootprintTester(const MapGrid& grid, const CellClasses& classes, const cv::Mat& clearance,
+                  const Footprints& footprints, const RobotParams& robot)
+      : grid_(grid),
+        classes_(classes),
+        clearance_(clearance),
+        footprints_(footprints),
+        robot_(robot) {}
+
+  bool blocked(int column, int row) const {
+    if (!grid_.inside(column, row)) return true;
+    const CellState state = classes_.state[grid_.index(column, row)];
+    return state == CellState::kBlocked || state == CellState::kUnknown;
+  }
+
+  // Coarse test of the enlarged box: no blocked cell centre inside it.
+  bool fitsEnlarged(int column, int row, int orientation) const {
+    const float free_radius = clearance_.at<float>(row, column);
+    for (const Offset& o : footprints_.enlarged[std::size_t(orientation)]) {
+      if (o.radius < free_radius) continue;  // the distance transform vouches for these
+      if (blocked(column + o.dx, row + o.dy)) return false;
+    }
+    return true;
+  }
+
+  // Exact test of the nominal box: no measured point inside it, and no centre of an unobserved,
+  // unreachable or stepped cell.
+  bool fitsExactly(int column, int row, int orientation) const {
+    const double yaw = footprints_.yaw[std::size_t(orientation)];
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    const Eigen::Vector2d centre = grid_.centre(column, row);
+    const double half_length = robot_.length / 2, half_width = robot_.width / 2;
+    auto inside = [&](double x, double y) {
+      const double dx = x - centre.x(), dy = y - centre.y();
+      return std::abs(dx * c + dy * s) < half_length && std::abs(-dx * s + dy * c) < half_width;
+    };
+    const float free_radius = clearance_.at<float>(row, column);
+    for (const Offset& o : footprints_.reach[std::size_t(orientation)]) {
+      if (o.radius + 0.75F < free_radius) continue;
+      const int cc = column + o.dx, rr = row + o.dy;
+      if (!blocked(cc, rr)) continue;
+      const std::size_t cell = grid_.index(cc, rr);
+      if (classes_.blocked_by_points_only[cell]) {
+        for (std::uint32_t k = classes_.point_start[cell]; k < classes_.point_start[cell + 1]; ++k)
+          if (inside(classes_.xs[k], classes_.ys[k])) return false;
+      } else {
+        const Eigen::Vector2d other = grid_.centre(cc, rr);
+        if (inside(other.x(), other.y())) return false;
+      }
+    }
+    return true;
+  }
+
+ private:
+  const MapGrid& grid_;
+  const CellClasses& classes_;
+  const cv::Mat& clearance_;
+  const Footprints& footprints_;
+  const RobotParams& robot_;
+};
+
+}  // namespace
+
+std::string_view reasonName(CellReason reason) {
+  switch (reason) {
+    case CellReason::kNone:
+      return "";
+    case CellReason::kWall:
+      return "wall";
+    case CellReason::kTooLow:
+      return "too low";
+    case CellReason::kTooSteep:
+      return "too steep";
+    case CellReason::kTooNarrow:
+      return "too narrow";
+    case CellReason::kOtherLevel:
+      return "unreachable level";
+  }
+  return "";
+}
+
+std::string_view labelName(CellLabel label) {
+  switch (label) {
+    case CellLabel::kUnknown:
+      return "unknown";
+    case CellLabel::kTraversable:
+      return "traversable";
+    case CellLabel::kCareful:
+      return "careful";
+    case CellLabel::kObstacle:
+      return "obstacle";
+    case CellLabel::kImpassable:
+      return "impassable";
+    case CellLabel::kStairs:
+      return "stairs";
+  }
+  return "";
+}
+
+double TraversabilityMap::yawDegrees(int column, int row) const {
+  const std::uint8_t index = orientation[grid.index(column, row)];
+  if (index == 255) return std::numeric_limits<double>::quiet_NaN();
+  return 180.0 * index / orientations;
+}
+
+TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const RobotParams& robot,
+                                        const MapParams& params, int threads,
+                                        const ProgressCallback& progress) {
+  TraversabilityMap map;
+  map.orientations = params.orientations;
+  map.grid = analysis.inputs.grid;
+  const std::size_t cells = map.grid.cells();
+  map.labels.assign(cells, std::uint8_t(CellLabel::kUnknown));
+  map.reasons.assign(cells, std::uint8_t(CellReason::kNone));
+  map.orientation.assign(cells, 255);
+  if (!analysis.ground_found || cells == 0) {
+    map.counts[0] = cells;
+    return map;
+  }
+  MapParams grid_params = params;
+  grid_params.resolution = map.grid.resolution;  // the grid was made with the analysis' resolution
+
+  const CellClasses classes = detail::classifyCells(analysis, robot, grid_params);
+  map.accepted_ground = classes.accepted_ground;
+  reportProgress(progress, 0.3);
+
+  // Clearance: distance (in cells) from each cell centre to the nearest blocked or unknown centre.
+  cv::Mat free_mask(map.grid.height, map.grid.width, CV_8UC1);
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const CellState state = classes.state[map.grid.index(column, row)];
+      free_mask.at<std::uint8_t>(row, column) =
+          (state == CellState::kGround || state == CellState::kLowObstacle) ? 255 : 0;
+    }
+  cv::Mat clearance;
+  cv::distanceTransform(free_mask, clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+
+  const Footprints footprints = makeFootprints(robot, grid_params);
+  const FootprintTester tester(map.grid, classes, clearance, footprints, robot);
+  detail::parallelChunks(
+      std::size_t(map.grid.height), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (int row = int(begin); row < int(end); ++row) {
+          for (int column = 0; column < map.grid.width; ++column) {
+            const std::size_t cell = map.grid.index(column, row);
+            const CellState state = classes.state[cell];
+            if (state == CellState::kUnknown) continue;
+            if (state == CellState::kBlocked) {
+              map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+              map.reasons[cell] = std::uint8_t(classes.reason[cell]);
+              continue;
+            }
+            const float free_radius = clearance.at<float>(row, column);
+            int fit = -1;
+            bool careful = false;
+            if (free_radius > footprints.outer_radius) {
+              fit = 0;
+            } else if (free_radius + 1.0 >= footprints.inner_radius) {
+              for (int k = 0; k < params.orientations && fit < 0; ++k)
+                if (tester.fitsEnlarged(column, row, k)) fit = k;
+              for (int k = 0; k < params.orientations && fit < 0; ++k)
+                if (tester.fitsExactly(column, row, k)) {
+                  fit = k;
+                  careful = true;
+                }
+            }
+            if (fit < 0) {
+              map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+              map.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);
+              continue;
+            }
+            map.orientation[cell] = std::uint8_t(fit);
+            if (state == CellState::kLowObstacle) {
+              map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
+            } else {
+              map.labels[cell] =
+                  std::uint8_t(careful ? CellLabel::kCareful : CellLabel::kTraversable);
+            }
+          }
+        }
+      });
+  for (std::uint8_t label : map.labels)
+    ++map.counts[label];
+  reportProgress(progress, 1.0);
+  return map;
+}
+
+}  // namespace clearway
