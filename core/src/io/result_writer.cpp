@@ -13,13 +13,15 @@ namespace clearway {
 namespace {
 
 // Image row 0 is the map's top (largest y), as image viewers and ROS expect.
-template <typename Pixel>
-std::vector<Pixel> topDown(const TraversabilityMap& map, Pixel (*pixel)(std::uint8_t)) {
-  std::vector<Pixel> image(map.grid.cells());
-  for (int row = 0; row < map.grid.height; ++row)
-    for (int column = 0; column < map.grid.width; ++column)
-      image[std::size_t(map.grid.height - 1 - row) * std::size_t(map.grid.width) +
-            std::size_t(column)] = pixel(map.labels[map.grid.index(column, row)]);
+std::vector<std::uint8_t> topDown(const std::vector<std::uint8_t>& layer, const MapGrid& grid,
+                                  std::uint8_t (*pixel)(std::uint8_t) = nullptr) {
+  std::vector<std::uint8_t> image(grid.cells());
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::uint8_t value = layer[grid.index(column, row)];
+      image[std::size_t(grid.height - 1 - row) * std::size_t(grid.width) + std::size_t(column)] =
+          pixel ? pixel(value) : value;
+    }
   return image;
 }
 
@@ -28,10 +30,6 @@ void writePgm(const std::filesystem::path& file, int width, int height,
   std::string bytes = "P5\n" + std::to_string(width) + " " + std::to_string(height) + "\n255\n";
   bytes.append(pixels.begin(), pixels.end());
   writeTextFileAtomically(file, bytes);
-}
-
-std::uint8_t identity(std::uint8_t label) {
-  return label;
 }
 
 // ROS occupancy: 254 free, 0 occupied, 205 unknown.
@@ -115,11 +113,15 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
 }
 
 void writeLabelsPgm(const TraversabilityMap& map, const std::filesystem::path& file) {
-  writePgm(file, map.grid.width, map.grid.height, topDown(map, identity));
+  writePgm(file, map.grid.width, map.grid.height, topDown(map.labels, map.grid));
+}
+
+void writeReasonsPgm(const TraversabilityMap& map, const std::filesystem::path& file) {
+  writePgm(file, map.grid.width, map.grid.height, topDown(map.reasons, map.grid));
 }
 
 void writeRosMap(const TraversabilityMap& map, const std::filesystem::path& pgm_file) {
-  writePgm(pgm_file, map.grid.width, map.grid.height, topDown(map, occupancy));
+  writePgm(pgm_file, map.grid.width, map.grid.height, topDown(map.labels, map.grid, occupancy));
   std::ostringstream yaml;
   yaml << "image: " << pgm_file.filename().string() << "\nresolution: " << map.grid.resolution
        << "\norigin: [" << map.grid.origin.x() << ", " << map.grid.origin.y() << ", 0.0]\n"
@@ -204,6 +206,7 @@ void writeResultFolder(const PipelineResult& result, const SegmentationParams& p
   std::filesystem::create_directories(folder, error);
   if (error) throw ScanError(folder, "cannot create the output folder: " + error.message());
   writeLabelsPgm(result.map, folder / "labels.pgm");
+  writeReasonsPgm(result.map, folder / "reasons.pgm");
   writeRosMap(result.map, folder / "map.pgm");
   writeTraversabilityPng(result.map, folder / "traversability.png");
   writeScenePly(result.scene, folder / "scene.ply");

@@ -13,6 +13,9 @@
 namespace clearway {
 namespace {
 
+// Planes whose real area is this many times the minimum extend over their sparse outer rings.
+constexpr int kGrowthAreaFactor = 5;
+
 // Supporting point indices of a plane.
 std::vector<std::uint32_t> supportingPoints(const Scan& scan, const Plane& plane, double distance) {
   const float nx = float(plane.normal.x()), ny = float(plane.normal.y()),
@@ -66,6 +69,8 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
     auto& count = counts.at<std::uint16_t>(row, column);
     if (count < 65535) ++count;
   }
+  // Validation: the dense, connected part of the support, with thin strips (where a phantom
+  // plane cuts real ones) opened away.
   cv::Mat supported = counts >= params.min_cell_points;  // CV_8U, 255 where supported
   cv::morphologyEx(supported, supported, cv::MORPH_OPEN,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
@@ -75,16 +80,33 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   const double cell_area = params.cell_size * params.cell_size;
   const int min_cells = std::max(1, int(std::ceil(params.min_area / cell_area)));
   int largest = 0;
-  std::vector<bool> keep(std::size_t(components), false);
+  std::vector<bool> real(std::size_t(components), false);
   for (int c = 1; c < components; ++c) {
     const int area = stats.at<int>(c, cv::CC_STAT_AREA);
     largest = std::max(largest, area);
-    keep[std::size_t(c)] = area >= min_cells;
+    real[std::size_t(c)] = area >= min_cells;
   }
+
+  // Membership: for large planes, every supported cell reachable from a real area across gaps of
+  // up to two cells, so the sparse outer scan rings of a floor still belong to it. Small planes (a
+  // pallet top) do not grow: the foot of every wall crosses their height, and growing along it
+  // would give them points far away.
+  const bool grows = largest >= kGrowthAreaFactor * min_cells;
+  cv::Mat reach = grows ? cv::Mat(counts > 0) : cv::Mat(supported.clone());
+  if (grows) cv::dilate(reach, reach, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  cv::Mat reach_labels;
+  const int reach_components = cv::connectedComponents(reach, reach_labels, 8, CV_32S);
+  std::vector<bool> keep(std::size_t(reach_components), false);
+  for (int row = 0; row < image.height; ++row)
+    for (int column = 0; column < image.width; ++column)
+      if (real[std::size_t(labels.at<int>(row, column))])
+        keep[std::size_t(reach_labels.at<int>(row, column))] = true;
   image.kept.assign(std::size_t(image.width) * std::size_t(image.height), 0);
   for (int row = 0; row < image.height; ++row)
     for (int column = 0; column < image.width; ++column)
-      if (keep[std::size_t(labels.at<int>(row, column))])
+      if ((grows ? counts.at<std::uint16_t>(row, column) > 0
+                 : supported.at<std::uint8_t>(row, column) > 0) &&
+          keep[std::size_t(reach_labels.at<int>(row, column))])
         image.kept[std::size_t(row) * std::size_t(image.width) + std::size_t(column)] = 1;
   return largest * cell_area;
 }
@@ -127,7 +149,7 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
     const auto index = std::int32_t(result.planes.size());
     const Plane& plane = candidates[k];
     const SupportImage& image = images[k];
-    // A point belongs to the nearest plane that supports it inside that plane's real area.
+    // A point belongs to the nearest validated plane that supports it within that plane's area.
     for (std::uint32_t i : supports[k]) {
       const Point3f& p = scan.points[i];
       const Eigen::Vector3d q(p.x, p.y, p.z);

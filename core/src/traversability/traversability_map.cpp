@@ -48,12 +48,35 @@ struct Footprints {
   double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
 };
 
-Footprints makeFootprints(const RobotParams& robot, const MapParams& params) {
+// Uniform orientations plus, for every wall, its own direction and the one square to it.
+std::vector<double> orientationsToTry(const ScanAnalysis& analysis, int uniform) {
+  std::vector<double> yaws;
+  for (int k = 0; k < uniform; ++k)
+    yaws.push_back(std::numbers::pi * k / uniform);
+  const Eigen::Matrix3d rotation = analysis.map_from_scanner.linear();
+  for (const Plane& plane : analysis.planes.planes) {
+    if (plane.kind != PlaneKind::kWall) continue;
+    const Eigen::Vector3d normal = rotation * plane.normal;
+    if (normal.head<2>().norm() < 0.7) continue;  // not a standing wall
+    const double along_normal = std::atan2(normal.y(), normal.x());
+    for (double yaw : {along_normal, along_normal + std::numbers::pi / 2}) {
+      yaw = std::fmod(yaw + 2 * std::numbers::pi, std::numbers::pi);
+      const bool known = std::any_of(yaws.begin(), yaws.end(), [&](double other) {
+        const double difference = std::abs(other - yaw);
+        return std::min(difference, std::numbers::pi - difference) < 1e-2;
+      });
+      if (!known && yaws.size() < 250) yaws.push_back(yaw);
+    }
+  }
+  return yaws;
+}
+
+Footprints makeFootprints(const RobotParams& robot, const MapParams& params,
+                          const std::vector<double>& yaws) {
   Footprints f;
   const double along = robot.length / 2 / params.resolution,
                across = robot.width / 2 / params.resolution;
-  for (int k = 0; k < params.orientations; ++k) {
-    const double yaw = std::numbers::pi * k / params.orientations;
+  for (double yaw : yaws) {
     f.yaw.push_back(yaw);
     f.enlarged.push_back(rectangleOffsets(along + 0.5, across + 0.5, yaw));
     // A cell's points lie within half a diagonal (0.71 cells) of its centre.
@@ -67,12 +90,26 @@ Footprints makeFootprints(const RobotParams& robot, const MapParams& params) {
 class FootprintTester {
  public:
   FootprintTester(const MapGrid& grid, const CellClasses& classes, const cv::Mat& clearance,
-                  const Footprints& footprints, const RobotParams& robot)
+                  const cv::Mat& lenient_clearance, const cv::Mat& unknown_depth,
+                  double unknown_tolerance_cells, const Footprints& footprints,
+                  const RobotParams& robot)
       : grid_(grid),
         classes_(classes),
         clearance_(clearance),
+        lenient_clearance_(lenient_clearance),
+        unknown_depth_(unknown_depth),
+        unknown_tolerance_(float(unknown_tolerance_cells)),
         footprints_(footprints),
         robot_(robot) {}
+
+  // For the careful check: unobserved cells close to observed free ground do not block.
+  bool blockedLeniently(int column, int row) const {
+    if (!grid_.inside(column, row)) return true;
+    const CellState state = classes_.state[grid_.index(column, row)];
+    if (state == CellState::kUnknown)
+      return unknown_depth_.at<float>(row, column) > unknown_tolerance_;
+    return state == CellState::kBlocked;
+  }
 
   bool blocked(int column, int row) const {
     if (!grid_.inside(column, row)) return true;
@@ -101,11 +138,11 @@ class FootprintTester {
       const double dx = x - centre.x(), dy = y - centre.y();
       return std::abs(dx * c + dy * s) < half_length && std::abs(-dx * s + dy * c) < half_width;
     };
-    const float free_radius = clearance_.at<float>(row, column);
+    const float free_radius = lenient_clearance_.at<float>(row, column);
     for (const Offset& o : footprints_.reach[std::size_t(orientation)]) {
       if (o.radius + 0.75F < free_radius) continue;
       const int cc = column + o.dx, rr = row + o.dy;
-      if (!blocked(cc, rr)) continue;
+      if (!blockedLeniently(cc, rr)) continue;
       const std::size_t cell = grid_.index(cc, rr);
       if (classes_.blocked_by_points_only[cell]) {
         for (std::uint32_t k = classes_.point_start[cell]; k < classes_.point_start[cell + 1]; ++k)
@@ -122,6 +159,9 @@ class FootprintTester {
   const MapGrid& grid_;
   const CellClasses& classes_;
   const cv::Mat& clearance_;
+  const cv::Mat& lenient_clearance_;
+  const cv::Mat& unknown_depth_;
+  const float unknown_tolerance_;
   const Footprints& footprints_;
   const RobotParams& robot_;
 };
@@ -167,14 +207,13 @@ std::string_view labelName(CellLabel label) {
 double TraversabilityMap::yawDegrees(int column, int row) const {
   const std::uint8_t index = orientation[grid.index(column, row)];
   if (index == 255) return std::numeric_limits<double>::quiet_NaN();
-  return 180.0 * index / orientations;
+  return yaws[index] * 180.0 / std::numbers::pi;
 }
 
 TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const RobotParams& robot,
                                         const MapParams& params, int threads,
                                         const ProgressCallback& progress) {
   TraversabilityMap map;
-  map.orientations = params.orientations;
   map.grid = analysis.inputs.grid;
   const std::size_t cells = map.grid.cells();
   map.labels.assign(cells, std::uint8_t(CellLabel::kUnknown));
@@ -202,8 +241,24 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   cv::Mat clearance;
   cv::distanceTransform(free_mask, clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
 
-  const Footprints footprints = makeFootprints(robot, grid_params);
-  const FootprintTester tester(map.grid, classes, clearance, footprints, robot);
+  // How deep each unobserved cell lies in unobserved space (cells to the nearest observed one).
+  cv::Mat unknown_mask(map.grid.height, map.grid.width, CV_8UC1);
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column)
+      unknown_mask.at<std::uint8_t>(row, column) =
+          classes.state[map.grid.index(column, row)] == CellState::kUnknown ? 255 : 0;
+  cv::Mat unknown_depth;
+  cv::distanceTransform(unknown_mask, unknown_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  const double tolerance_cells = params.unknown_tolerance / map.grid.resolution;
+  cv::Mat lenient_free = free_mask | ((unknown_mask > 0) & (unknown_depth <= tolerance_cells));
+  cv::Mat lenient_clearance;
+  cv::distanceTransform(lenient_free, lenient_clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+
+  map.yaws = orientationsToTry(analysis, params.orientations);
+  const Footprints footprints = makeFootprints(robot, grid_params, map.yaws);
+  const int orientations = int(map.yaws.size());
+  const FootprintTester tester(map.grid, classes, clearance, lenient_clearance, unknown_depth,
+                               tolerance_cells, footprints, robot);
   detail::parallelChunks(
       std::size_t(map.grid.height), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
         for (int row = int(begin); row < int(end); ++row) {
@@ -221,10 +276,10 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
             bool careful = false;
             if (free_radius > footprints.outer_radius) {
               fit = 0;
-            } else if (free_radius + 1.0 >= footprints.inner_radius) {
-              for (int k = 0; k < params.orientations && fit < 0; ++k)
+            } else if (lenient_clearance.at<float>(row, column) + 1.0 >= footprints.inner_radius) {
+              for (int k = 0; k < orientations && fit < 0; ++k)
                 if (tester.fitsEnlarged(column, row, k)) fit = k;
-              for (int k = 0; k < params.orientations && fit < 0; ++k)
+              for (int k = 0; k < orientations && fit < 0; ++k)
                 if (tester.fitsExactly(column, row, k)) {
                   fit = k;
                   careful = true;

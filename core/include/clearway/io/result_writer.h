@@ -18,6 +18,7 @@ void writeResultFolder(const PipelineResult& result, const SegmentationParams& p
 std::string reportJson(const PipelineResult& result, const SegmentationParams& params,
                        const std::string& scan_name);
 void writeLabelsPgm(const TraversabilityMap& map, const std::filesystem::path& file);
+void writeReasonsPgm(const TraversabilityMap& map, const std::filesystem::path& file);
 void writeRosMap(const TraversabilityMap& map,
                  const std::filesystem::path& pgm_file);  // + .yaml beside
 void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file);

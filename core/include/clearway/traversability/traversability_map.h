@@ -40,9 +40,11 @@ struct TraversabilityMap {
   MapGrid grid;
   std::vector<std::uint8_t> labels;   // CellLabel per cell; row 0 = smallest map y
   std::vector<std::uint8_t> reasons;  // CellReason per cell
-  // Index of an orientation the robot fits in (yaw = index * 180 / orientations deg), 255 if none.
+  // Index into `yaws` of an orientation the robot fits in, 255 if none.
   std::vector<std::uint8_t> orientation;
-  int orientations = 12;
+  // Orientations tried [rad, map frame]: uniform over 180 deg, plus those of the walls (doors are
+  // in walls, and a narrow door is only passable square to its wall).
+  std::vector<double> yaws;
   std::array<std::size_t, kCellLabelCount> counts{};
   std::vector<int> accepted_ground;  // ground planes the robot can reach from the reference
 
