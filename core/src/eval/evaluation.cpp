@@ -14,6 +14,7 @@ namespace clearway::eval {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+constexpr std::size_t kListedFalseCells = 20;
 
 std::array<ClassScore, kPointClassCount> scoreClasses(const sim::GroundTruth& truth,
                                                       const std::vector<PointClass>& predicted) {
@@ -111,8 +112,10 @@ MapScore scoreMap(const sim::GroundTruth& truth, const SegmentationResult& resul
       world.z() += 1.5;
       if (const auto ground = fit.groundHeight(world.x(), world.y(), world.z()))
         world.z() = *ground;
-      if (!fit.fitsAnyOrientation(robot, world, options.orientations))
+      if (!fit.fitsAnyOrientation(robot, world, options.orientations)) {
         ++score.false_traversable_cells;
+        if (score.false_cells.size() < kListedFalseCells) score.false_cells.push_back(world);
+      }
     }
   }
   score.false_traversable_rate = score.traversable_cells ? double(score.false_traversable_cells) /
@@ -218,6 +221,8 @@ std::string toText(const Evaluation& e) {
         << e.map.false_traversable_cells
         << " where the robot cannot truly stand (false-traversable rate "
         << e.map.false_traversable_rate << ")\n";
+    for (const Eigen::Vector3d& w : e.map.false_cells)
+      out << "  false traversable at world (" << w.x() << ", " << w.y() << ", " << w.z() << ")\n";
     for (const PlaceCheck& c : e.map.places)
       out << "  " << c.from << " -> " << c.to << ": expected "
           << (c.expected ? "reachable" : "unreachable") << ", map says "

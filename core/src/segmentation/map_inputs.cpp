@@ -129,6 +129,27 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
     }
   }
 
+  // Single unobserved cells inside observed ground (a beam that fell between two cells) are
+  // ground too: at least five of their eight neighbours are ground of one plane.
+  std::vector<std::pair<std::size_t, int>> holes;
+  for (int row = 1; row + 1 < grid.height; ++row) {
+    for (int column = 1; column + 1 < grid.width; ++column) {
+      if (inputs.ground_plane[grid.index(column, row)] >= 0) continue;
+      std::map<int, int> votes;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc)
+          if (const int g = inputs.ground_plane[grid.index(column + dc, row + dr)]; g >= 0)
+            ++votes[g];
+      for (const auto& [plane, count] : votes)
+        if (count >= 5) holes.emplace_back(grid.index(column, row), plane);
+    }
+  }
+  for (const auto& [cell, plane] : holes) {
+    const int column = int(cell % std::size_t(grid.width)),
+              row = int(cell / std::size_t(grid.width));
+    markGround(column, row, plane);
+  }
+
   // Every other point, with its height above the ground beneath it.
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (!scan.isValid(i) || ground_of[i] >= 0) continue;

@@ -20,6 +20,9 @@ namespace {
 using detail::CellClasses;
 using detail::CellState;
 
+// Gaps up to this wide between blocked cells are taken as closed (sparse wall sampling) [m].
+constexpr double kWallGapBridge = 0.3;
+
 struct Offset {
   int dx, dy;
   float radius;  // cells
@@ -79,8 +82,9 @@ Footprints makeFootprints(const RobotParams& robot, const MapParams& params,
   for (double yaw : yaws) {
     f.yaw.push_back(yaw);
     f.enlarged.push_back(rectangleOffsets(along + 0.5, across + 0.5, yaw));
-    // A cell's points lie within half a diagonal (0.71 cells) of its centre.
-    f.reach.push_back(rectangleOffsets(along + 0.75, across + 0.75, yaw));
+    // A cell's points lie within half a diagonal (0.71 cells) of its centre, and the exact check
+    // moves the robot's centre up to a third of a cell: every cell within 1.1 cells may matter.
+    f.reach.push_back(rectangleOffsets(along + 1.1, across + 1.1, yaw));
   }
   f.inner_radius = across;
   f.outer_radius = std::hypot(along + 0.5, across + 0.5);
@@ -90,15 +94,13 @@ Footprints makeFootprints(const RobotParams& robot, const MapParams& params,
 class FootprintTester {
  public:
   FootprintTester(const MapGrid& grid, const CellClasses& classes, const cv::Mat& clearance,
-                  const cv::Mat& lenient_clearance, const cv::Mat& unknown_depth,
-                  double unknown_tolerance_cells, const Footprints& footprints,
-                  const RobotParams& robot)
+                  const cv::Mat& lenient_clearance, const cv::Mat& tolerated,
+                  const Footprints& footprints, const RobotParams& robot)
       : grid_(grid),
         classes_(classes),
         clearance_(clearance),
         lenient_clearance_(lenient_clearance),
-        unknown_depth_(unknown_depth),
-        unknown_tolerance_(float(unknown_tolerance_cells)),
+        tolerated_(tolerated),
         footprints_(footprints),
         robot_(robot) {}
 
@@ -106,8 +108,7 @@ class FootprintTester {
   bool blockedLeniently(int column, int row) const {
     if (!grid_.inside(column, row)) return true;
     const CellState state = classes_.state[grid_.index(column, row)];
-    if (state == CellState::kUnknown)
-      return unknown_depth_.at<float>(row, column) > unknown_tolerance_;
+    if (state == CellState::kUnknown) return tolerated_.at<std::uint8_t>(row, column) == 0;
     return state == CellState::kBlocked;
   }
 
@@ -129,10 +130,21 @@ class FootprintTester {
 
   // Exact test of the nominal box: no measured point inside it, and no centre of an unobserved,
   // unreachable or stepped cell.
-  bool fitsExactly(int column, int row, int orientation) const {
+  // The paper's finer discretisation: the robot's centre may be anywhere in the cell, tried at
+  // 3 x 3 positions a third of a cell apart.
+  bool fitsExactlyInCell(int column, int row, int orientation) const {
+    const double step = grid_.resolution / 3.0;
+    for (int sy = -1; sy <= 1; ++sy)
+      for (int sx = -1; sx <= 1; ++sx)
+        if (fitsExactly(column, row, orientation,
+                        grid_.centre(column, row) + Eigen::Vector2d(sx * step, sy * step)))
+          return true;
+    return false;
+  }
+
+  bool fitsExactly(int column, int row, int orientation, const Eigen::Vector2d& centre) const {
     const double yaw = footprints_.yaw[std::size_t(orientation)];
     const double c = std::cos(yaw), s = std::sin(yaw);
-    const Eigen::Vector2d centre = grid_.centre(column, row);
     const double half_length = robot_.length / 2, half_width = robot_.width / 2;
     auto inside = [&](double x, double y) {
       const double dx = x - centre.x(), dy = y - centre.y();
@@ -140,7 +152,7 @@ class FootprintTester {
     };
     const float free_radius = lenient_clearance_.at<float>(row, column);
     for (const Offset& o : footprints_.reach[std::size_t(orientation)]) {
-      if (o.radius + 0.75F < free_radius) continue;
+      if (o.radius + 1.1F < free_radius) continue;
       const int cc = column + o.dx, rr = row + o.dy;
       if (!blockedLeniently(cc, rr)) continue;
       const std::size_t cell = grid_.index(cc, rr);
@@ -160,8 +172,7 @@ class FootprintTester {
   const CellClasses& classes_;
   const cv::Mat& clearance_;
   const cv::Mat& lenient_clearance_;
-  const cv::Mat& unknown_depth_;
-  const float unknown_tolerance_;
+  const cv::Mat& tolerated_;
   const Footprints& footprints_;
   const RobotParams& robot_;
 };
@@ -220,7 +231,12 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   map.reasons.assign(cells, std::uint8_t(CellReason::kNone));
   map.orientation.assign(cells, 255);
   if (!analysis.ground_found || cells == 0) {
-    map.counts[0] = cells;
+    // Nothing can be trusted: one unknown cell under the scanner, and no traversable cell at all.
+    map.grid = MapGrid{params.resolution, Eigen::Vector2d::Constant(-params.resolution / 2), 1, 1};
+    map.labels.assign(1, std::uint8_t(CellLabel::kUnknown));
+    map.reasons.assign(1, std::uint8_t(CellReason::kNone));
+    map.orientation.assign(1, 255);
+    map.counts[0] = 1;
     return map;
   }
   MapParams grid_params = params;
@@ -230,35 +246,46 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   map.accepted_ground = classes.accepted_ground;
   reportProgress(progress, 0.3);
 
-  // Clearance: distance (in cells) from each cell centre to the nearest blocked or unknown centre.
-  cv::Mat free_mask(map.grid.height, map.grid.width, CV_8UC1);
-  for (int row = 0; row < map.grid.height; ++row)
-    for (int column = 0; column < map.grid.width; ++column) {
-      const CellState state = classes.state[map.grid.index(column, row)];
-      free_mask.at<std::uint8_t>(row, column) =
-          (state == CellState::kGround || state == CellState::kLowObstacle) ? 255 : 0;
-    }
-  cv::Mat clearance;
-  cv::distanceTransform(free_mask, clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  auto maskOf = [&](auto predicate) {
+    cv::Mat mask(map.grid.height, map.grid.width, CV_8UC1);
+    for (int row = 0; row < map.grid.height; ++row)
+      for (int column = 0; column < map.grid.width; ++column)
+        mask.at<std::uint8_t>(row, column) =
+            predicate(classes.state[map.grid.index(column, row)]) ? 255 : 0;
+    return mask;
+  };
+  auto close = [&](const cv::Mat& mask, double bridge) {
+    const int size = 2 * int(std::ceil(bridge / map.grid.resolution)) + 1;
+    cv::Mat closed;
+    cv::morphologyEx(mask, closed, cv::MORPH_CLOSE,
+                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)));
+    return closed;
+  };
+  const cv::Mat free_mask =
+      maskOf([](CellState s) { return s == CellState::kGround || s == CellState::kLowObstacle; });
+  const cv::Mat blocked_mask = maskOf([](CellState s) { return s == CellState::kBlocked; });
+  const cv::Mat unknown_mask = maskOf([](CellState s) { return s == CellState::kUnknown; });
 
-  // How deep each unobserved cell lies in unobserved space (cells to the nearest observed one).
-  cv::Mat unknown_mask(map.grid.height, map.grid.width, CV_8UC1);
-  for (int row = 0; row < map.grid.height; ++row)
-    for (int column = 0; column < map.grid.width; ++column)
-      unknown_mask.at<std::uint8_t>(row, column) =
-          classes.state[map.grid.index(column, row)] == CellState::kUnknown ? 255 : 0;
-  cv::Mat unknown_depth;
-  cv::distanceTransform(unknown_mask, unknown_depth, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  const double tolerance_cells = params.unknown_tolerance / map.grid.resolution;
-  cv::Mat lenient_free = free_mask | ((unknown_mask > 0) & (unknown_depth <= tolerance_cells));
-  cv::Mat lenient_clearance;
-  cv::distanceTransform(lenient_free, lenient_clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  // Unobserved cells the careful check tolerates: gaps between what was observed (free or
+  // blocked), e.g. beside a door jamb where the next beam hit the jamb. Not the open edge of the
+  // observed space (past an invisible glass wall, over an unseen drop), and not the inside of an
+  // obstacle between its sparse points.
+  const cv::Mat tolerated = unknown_mask &
+                            close(free_mask | blocked_mask, params.unknown_tolerance) &
+                            ~close(blocked_mask, kWallGapBridge);
+
+  // Clearance: distance (in cells) from each cell centre to the nearest cell that blocks, strictly
+  // (unobserved blocks) and leniently (tolerated unobserved cells do not).
+  cv::Mat clearance, lenient_clearance;
+  cv::distanceTransform(free_mask, clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
+  cv::distanceTransform(free_mask | tolerated, lenient_clearance, cv::DIST_L2,
+                        cv::DIST_MASK_PRECISE);
 
   map.yaws = orientationsToTry(analysis, params.orientations);
   const Footprints footprints = makeFootprints(robot, grid_params, map.yaws);
   const int orientations = int(map.yaws.size());
-  const FootprintTester tester(map.grid, classes, clearance, lenient_clearance, unknown_depth,
-                               tolerance_cells, footprints, robot);
+  const FootprintTester tester(map.grid, classes, clearance, lenient_clearance, tolerated,
+                               footprints, robot);
   detail::parallelChunks(
       std::size_t(map.grid.height), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
         for (int row = int(begin); row < int(end); ++row) {
@@ -280,7 +307,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
               for (int k = 0; k < orientations && fit < 0; ++k)
                 if (tester.fitsEnlarged(column, row, k)) fit = k;
               for (int k = 0; k < orientations && fit < 0; ++k)
-                if (tester.fitsExactly(column, row, k)) {
+                if (tester.fitsExactlyInCell(column, row, k)) {
                   fit = k;
                   careful = true;
                 }

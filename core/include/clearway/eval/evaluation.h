@@ -75,6 +75,7 @@ struct MapScore {
   std::size_t traversable_cells = 0;        // labels 1 and 2
   std::size_t false_traversable_cells = 0;  // of those, where the robot cannot truly stand
   double false_traversable_rate = 0.0;
+  std::vector<Eigen::Vector3d> false_cells;  // world positions of the first false cells
   std::vector<PlaceCheck> places;
 };
 

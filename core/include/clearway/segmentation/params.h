@@ -58,8 +58,9 @@ struct MapParams {
   double max_triangle_edge = 1.0;     // ground triangles never bridge more than this [m]
   double obstacle_min_height = 0.04;  // points lower than this above ground are ground noise [m]
   double max_extent = 60.0;           // map half-size limit around the scanner [m]
-  // The careful (orange) check lets the robot's box reach over unobserved cells this close to
-  // observed free ground: the slivers of shadow behind door jambs. Centres are never unobserved.
+  // The careful (orange) check lets the robot's box reach over unobserved gaps up to twice this
+  // wide between observed cells: the slivers beside door jambs where the next beam hit the jamb.
+  // The open edge of what was observed always blocks; centres are never unobserved.
   double unknown_tolerance = 0.25;  // [m]
 };
 
