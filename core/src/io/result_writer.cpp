@@ -75,6 +75,7 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
                       {"area", plane.support_area},
                       {"segments", plane.segments.size()},
                       {"rms", plane.rms},
+                      {"inner_fraction", plane.inner_fraction},
                       {"kind", planeKindName(plane.kind)},
                       {"reference_ground", int(k) == analysis.reference_ground},
                       {"reachable_ground", accepted},

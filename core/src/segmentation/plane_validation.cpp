@@ -111,6 +111,18 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   return largest * cell_area;
 }
 
+// Share of the supporting points within `half_band` of the plane.
+double innerFraction(const Scan& scan, const Plane& plane,
+                     const std::vector<std::uint32_t>& support, double half_band) {
+  if (support.empty()) return 0.0;
+  std::size_t inner = 0;
+  for (std::uint32_t i : support) {
+    const Point3f& p = scan.points[i];
+    if (std::abs(plane.signedDistance(Eigen::Vector3d(p.x, p.y, p.z))) <= half_band) ++inner;
+  }
+  return double(inner) / double(support.size());
+}
+
 }  // namespace
 
 bool SupportImage::contains(const Eigen::Vector3d& p) const {
@@ -134,7 +146,10 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
                                   ? 0.0
                                   : buildSupportImage(scan, plane, supports[k], params, images[k]);
           plane.support_area = area;
-          plane.validated = area >= params.min_area;
+          plane.inner_fraction =
+              innerFraction(scan, plane, supports[k], params.support_distance / 2);
+          plane.validated =
+              area >= params.min_area && plane.inner_fraction >= params.min_inner_fraction;
         }
       });
 

@@ -89,7 +89,7 @@ Scene hallway(const SceneParameters& p) {
       "A 3 m wide corridor; from x = 3 m a ramp (left lane) and stairs (right lane), separated by "
       "a "
       "wall, climb to an upper level.";
-  const int steps = 6;
+  const int steps = 4;
   const double level = steps * p.stair_rise;
   const double slope = p.ramp_slope_deg * std::numbers::pi / 180.0;
   const double ramp_run = level / std::tan(slope);
@@ -117,7 +117,7 @@ Scene hallway(const SceneParameters& p) {
   scene.scanner_position = {0.0, 0.0, 1.2};
   scene.scanner_axis = {1.0, 0.0, -0.2};
   addPlace(scene, "lower", {1.5, 0.0, 0.0});
-  addPlace(scene, "upper_ramp", {3.0 + ramp_run + 1.5, 0.8, level});
+  addPlace(scene, "upper_ramp", {3.0 + ramp_run + 0.8, 0.8, level});
   addPlace(scene, "upper_stairs", {3.0 + stairs_run + 1.0, -0.8, level});
   addPassage(scene, "ramp", "lower", "upper_ramp", 1.45, 0.0);
   addPassage(scene, "stairs", "lower", "upper_stairs", 1.45, 0.0, p.stair_rise);

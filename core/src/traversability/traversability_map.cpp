@@ -266,13 +266,25 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   const cv::Mat blocked_mask = maskOf([](CellState s) { return s == CellState::kBlocked; });
   const cv::Mat unknown_mask = maskOf([](CellState s) { return s == CellState::kUnknown; });
 
-  // Unobserved cells the careful check tolerates: gaps between what was observed (free or
-  // blocked), e.g. beside a door jamb where the next beam hit the jamb. Not the open edge of the
-  // observed space (past an invisible glass wall, over an unseen drop), and not the inside of an
-  // obstacle between its sparse points.
-  const cv::Mat tolerated = unknown_mask &
-                            close(free_mask | blocked_mask, params.unknown_tolerance) &
-                            ~close(blocked_mask, kWallGapBridge);
+  // Unobserved cells the careful check tolerates: single-cell gaps between observed cells (free or
+  // blocked) on two opposite sides, e.g. beside a door jamb where the next beam hit the jamb. Not
+  // the open edge of the observed space (past an invisible glass wall, over an unseen drop), not
+  // a wider unobserved strip (a thin wall seen end-on), and not the inside of an obstacle between
+  // its sparse points.
+  const cv::Mat observed = free_mask | blocked_mask;
+  const cv::Mat enclosed = close(blocked_mask, kWallGapBridge);
+  cv::Mat tolerated(map.grid.height, map.grid.width, CV_8UC1, cv::Scalar(0));
+  for (int row = 1; row + 1 < map.grid.height; ++row)
+    for (int column = 1; column + 1 < map.grid.width; ++column) {
+      if (!unknown_mask.at<std::uint8_t>(row, column) || enclosed.at<std::uint8_t>(row, column))
+        continue;
+      auto seen = [&](int dc, int dr) {
+        return observed.at<std::uint8_t>(row + dr, column + dc) != 0;
+      };
+      if ((seen(-1, 0) && seen(1, 0)) || (seen(0, -1) && seen(0, 1)) ||
+          (seen(-1, -1) && seen(1, 1)) || (seen(-1, 1) && seen(1, -1)))
+        tolerated.at<std::uint8_t>(row, column) = 255;
+    }
 
   // Clearance: distance (in cells) from each cell centre to the nearest cell that blocks, strictly
   // (unobserved blocks) and leniently (tolerated unobserved cells do not).

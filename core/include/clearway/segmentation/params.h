@@ -45,6 +45,9 @@ struct ValidationParams {
   int min_cell_points = 2;          // a cell with this many supporting points counts
   double min_area = 0.6;            // the largest connected supported area must reach this [m^2]
   int max_image_cells = 4'000'000;  // support images larger than this are clipped
+  // A real plane's support crowds near it (range noise); a phantom cutting a zig-zag (the nosings
+  // of a staircase) spreads evenly over the band. This share must lie in the band's inner half.
+  double min_inner_fraction = 0.65;
 };
 
 struct GroundParams {
@@ -58,10 +61,6 @@ struct MapParams {
   double max_triangle_edge = 1.0;     // ground triangles never bridge more than this [m]
   double obstacle_min_height = 0.04;  // points lower than this above ground are ground noise [m]
   double max_extent = 60.0;           // map half-size limit around the scanner [m]
-  // The careful (orange) check lets the robot's box reach over unobserved gaps up to twice this
-  // wide between observed cells: the slivers beside door jambs where the next beam hit the jamb.
-  // The open edge of what was observed always blocks; centres are never unobserved.
-  double unknown_tolerance = 0.25;  // [m]
 };
 
 struct RobotParams {

@@ -30,7 +30,8 @@ struct Plane {
   // Filled by validation:
   bool validated = false;
   std::size_t support_points = 0;
-  double support_area = 0.0;  // largest connected supported area [m^2]
+  double support_area = 0.0;    // largest connected supported area [m^2]
+  double inner_fraction = 0.0;  // share of support in the inner half of the band
   PlaneKind kind = PlaneKind::kUnknown;
 
   double signedDistance(const Eigen::Vector3d& p) const { return normal.dot(p) - offset; }
