@@ -31,10 +31,8 @@ void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
     const double scanner_height = facing < 0 ? plane.offset : -plane.offset;
     if (cos_slope < cos_max_slope) {
       plane.kind = PlaneKind::kWall;
-    } else if (scanner_height < 0) {
-      plane.kind = PlaneKind::kCeiling;
     } else if (scanner_height < params.min_scanner_height) {
-      plane.kind = PlaneKind::kOther;
+      plane.kind = PlaneKind::kCeiling;
     } else {
       plane.kind = PlaneKind::kGround;
       analysis.ground_planes.push_back(int(k));
@@ -70,7 +68,8 @@ void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
   rotation.row(1) = y.transpose();
   rotation.row(2) = z.transpose();
   // The scanner sits at map (0, 0, height): the map origin is its foot on the reference plane.
-  const double scanner_height = std::abs(reference.offset);
+  const double scanner_height =
+      reference.normal.dot(analysis.up) < 0 ? reference.offset : -reference.offset;
   analysis.map_from_scanner = Eigen::Isometry3d::Identity();
   analysis.map_from_scanner.linear() = rotation;
   analysis.map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, scanner_height);

@@ -75,7 +75,7 @@ const std::vector<Entry>& entries() {
        1.0, [](SegmentationParams& p) -> Field { return &p.validation.min_inner_fraction; }},
       {"ground.max_slope_deg", "Steepest drivable slope [deg]", 0.0, 89.0,
        [](SegmentationParams& p) -> Field { return &p.ground.max_slope_deg; }},
-      {"ground.min_scanner_height", "The scanner is at least this far above the ground [m]", 0.0,
+      {"ground.min_scanner_height", "The scanner is at least this far above the ground [m]", -5.0,
        10.0, [](SegmentationParams& p) -> Field { return &p.ground.min_scanner_height; }},
       {"map.resolution", "Traversability cell size [m]", 0.01, 1.0,
        [](SegmentationParams& p) -> Field { return &p.map.resolution; }},

@@ -51,8 +51,10 @@ struct ValidationParams {
 };
 
 struct GroundParams {
-  double max_slope_deg = 45.0;      // steepest drivable slope (the LMF: 45 deg)
-  double min_scanner_height = 0.1;  // the scanner must be this far above a ground plane [m]
+  double max_slope_deg = 45.0;  // steepest drivable slope (the LMF: 45 deg)
+  // The scanner (the frame's origin) must be at least this far above a ground plane [m]. Negative:
+  // some files put their origin at ground level (3DTK, octomap); a ceiling is always higher.
+  double min_scanner_height = -0.3;
 };
 
 struct MapParams {
