@@ -12,6 +12,8 @@
 namespace clearway {
 namespace {
 
+constexpr double kMapMargin = 2.0;  // [m]
+
 // Neighbouring lines are paired point by point: same index for organised scans, same relative
 // position along the line for ragged ones.
 std::size_t partner(const ScanLine& from, const ScanLine& to, std::size_t k) {
@@ -84,7 +86,9 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
       box.extend(mapped[i].head<2>());
   }
   if (box.isEmpty()) box.extend(Eigen::Vector2d::Zero());
-  const double margin = std::hypot(params.robot.width, params.robot.length);
+  // Room for the robot's box at the edge of the ground, the same for every robot so that a re-run
+  // for a new size keeps the grid (cells outside the grid count as blocked).
+  const double margin = kMapMargin;
   MapGrid& grid = inputs.grid;
   grid.resolution = params.map.resolution;
   grid.origin = (box.min().array() - margin).matrix();

@@ -83,8 +83,8 @@ Footprints makeFootprints(const RobotParams& robot, const MapParams& params,
     f.yaw.push_back(yaw);
     f.enlarged.push_back(rectangleOffsets(along + 0.5, across + 0.5, yaw));
     // A cell's points lie within half a diagonal (0.71 cells) of its centre, and the exact check
-    // moves the robot's centre up to a third of a cell: every cell within 1.1 cells may matter.
-    f.reach.push_back(rectangleOffsets(along + 1.1, across + 1.1, yaw));
+    // moves the robot's centre up to 0.4 cells: every cell within 1.3 cells may matter.
+    f.reach.push_back(rectangleOffsets(along + 1.3, across + 1.3, yaw));
   }
   f.inner_radius = across;
   f.outer_radius = std::hypot(along + 0.5, across + 0.5);
@@ -131,11 +131,12 @@ class FootprintTester {
   // Exact test of the nominal box: no measured point inside it, and no centre of an unobserved,
   // unreachable or stepped cell.
   // The paper's finer discretisation: the robot's centre may be anywhere in the cell, tried at
-  // 3 x 3 positions a third of a cell apart.
+  // 5 x 5 positions a fifth of a cell apart, centre first.
   bool fitsExactlyInCell(int column, int row, int orientation) const {
-    const double step = grid_.resolution / 3.0;
-    for (int sy = -1; sy <= 1; ++sy)
-      for (int sx = -1; sx <= 1; ++sx)
+    const double step = grid_.resolution / 5.0;
+    static constexpr int kOrder[5] = {0, -1, 1, -2, 2};
+    for (int sy : kOrder)
+      for (int sx : kOrder)
         if (fitsExactly(column, row, orientation,
                         grid_.centre(column, row) + Eigen::Vector2d(sx * step, sy * step)))
           return true;
@@ -152,7 +153,7 @@ class FootprintTester {
     };
     const float free_radius = lenient_clearance_.at<float>(row, column);
     for (const Offset& o : footprints_.reach[std::size_t(orientation)]) {
-      if (o.radius + 1.1F < free_radius) continue;
+      if (o.radius + 1.3F < free_radius) continue;
       const int cc = column + o.dx, rr = row + o.dy;
       if (!blockedLeniently(cc, rr)) continue;
       const std::size_t cell = grid_.index(cc, rr);

@@ -1,0 +1,73 @@
+#include "engine_fixtures.h"
+
+#include <Eigen/Geometry>
+#include <numbers>
+#include <queue>
+
+namespace clearway::test {
+namespace {
+
+Eigen::Vector2i cellOfWorld(const SimulatedRun& run, const Eigen::Vector3d& world) {
+  const Eigen::Isometry3d map_from_world =
+      run.result.analysis.map_from_scanner *
+      run.simulated.truth.placement.worldFromScanner().inverse();
+  const Eigen::Vector3d m = map_from_world * world;
+  return run.result.map.grid.cellOf(m.x(), m.y());
+}
+
+bool traversable(CellLabel label) {
+  return label == CellLabel::kTraversable || label == CellLabel::kCareful;
+}
+
+}  // namespace
+
+SimulatedRun simulateAndSegment(const std::string& scene_name, int lines,
+                                const SegmentationParams& params, double tilt_deg, double roll_deg,
+                                const sim::SceneParameters& scene_parameters) {
+  const sim::Scene scene = *sim::builtinScene(scene_name, scene_parameters);
+  sim::SensorModel sensor;
+  sensor.lines = lines;
+  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
+  placement.axis = Eigen::AngleAxisd(tilt_deg * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) *
+                   placement.axis;
+  placement.axis_roll_deg = roll_deg;
+  SimulatedRun run;
+  run.simulated = sim::simulateRosi(scene, sensor, placement);
+  run.result = runPipeline(run.simulated.scan, params);
+  return run;
+}
+
+CellLabel labelAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world) {
+  const Eigen::Vector2i cell = cellOfWorld(run, world);
+  if (!run.result.map.grid.inside(cell.x(), cell.y())) return CellLabel::kUnknown;
+  return run.result.map.label(cell.x(), cell.y());
+}
+
+bool connectedInMap(const SimulatedRun& run, const Eigen::Vector3d& from,
+                    const Eigen::Vector3d& to) {
+  const TraversabilityMap& map = run.result.map;
+  const Eigen::Vector2i start = cellOfWorld(run, from), goal = cellOfWorld(run, to);
+  if (!map.grid.inside(start.x(), start.y()) || !traversable(map.label(start.x(), start.y())))
+    return false;
+  std::vector<bool> seen(map.grid.cells(), false);
+  std::queue<Eigen::Vector2i> frontier;
+  frontier.push(start);
+  seen[map.grid.index(start.x(), start.y())] = true;
+  while (!frontier.empty()) {
+    const Eigen::Vector2i cell = frontier.front();
+    frontier.pop();
+    if ((cell - goal).cwiseAbs().maxCoeff() <= 4) return true;  // within 0.2 m of the goal
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        const Eigen::Vector2i next = cell + Eigen::Vector2i(dc, dr);
+        if (!map.grid.inside(next.x(), next.y())) continue;
+        const std::size_t index = map.grid.index(next.x(), next.y());
+        if (seen[index] || !traversable(map.label(next.x(), next.y()))) continue;
+        seen[index] = true;
+        frontier.push(next);
+      }
+  }
+  return false;
+}
+
+}  // namespace clearway::test
