@@ -1,7 +1,7 @@
 #include "clearway/scene/scene_geometry.h"
 
 #include <Eigen/Geometry>
-#include <unordered_map>
+#include <limits>
 #include <unordered_set>
 
 namespace clearway {
@@ -49,16 +49,17 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
 
   // Ground: the scan-grid triangles whose centre lies on a cell the robot may use.
-  std::unordered_map<std::uint32_t, std::uint32_t> vertex_of;
+  constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> vertex_of(scan.size(), kNone);
   auto vertex = [&](std::uint32_t point) {
-    const auto [it, added] = vertex_of.try_emplace(point, std::uint32_t(scene.vertices.size()));
-    if (added) {
+    if (vertex_of[point] == kNone) {
+      vertex_of[point] = std::uint32_t(scene.vertices.size());
       const Point3f& p = scan.points[point];
       scene.vertices.emplace_back(p.x, p.y, p.z);
       const Eigen::Vector3d m = analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
       scene.vertex_labels.push_back(labelAt(map, m.x(), m.y()));
     }
-    return it->second;
+    return vertex_of[point];
   };
   for (const auto& triangle : analysis.inputs.ground_triangles) {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();

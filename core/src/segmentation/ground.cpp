@@ -73,13 +73,17 @@ void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
   analysis.map_from_scanner = Eigen::Isometry3d::Identity();
   analysis.map_from_scanner.linear() = rotation;
   analysis.map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, scanner_height);
-}
 
-double ScanAnalysis::planeHeight(int plane, double x, double y) const {
-  const Plane& p = planes.planes[std::size_t(plane)];
-  const Eigen::Vector3d normal = map_from_scanner.linear() * p.normal;
-  const double offset = p.offset + normal.dot(map_from_scanner.translation());
-  return (offset - normal.x() * x - normal.y() * y) / normal.z();
+  // Each plane as a height over the map: n . p = d in the map frame gives z = (d - nx x - ny y) /
+  // nz.
+  analysis.height_coefficients.assign(analysis.planes.planes.size(), Eigen::Vector3d::Zero());
+  for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
+    const Plane& p = analysis.planes.planes[k];
+    const Eigen::Vector3d n = rotation * p.normal;
+    if (std::abs(n.z()) < 1e-6) continue;  // a wall has no height over the map
+    const double d = p.offset + n.dot(analysis.map_from_scanner.translation());
+    analysis.height_coefficients[k] = Eigen::Vector3d(d, -n.x(), -n.y()) / n.z();
+  }
 }
 
 }  // namespace clearway

@@ -5,9 +5,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include "clearway/segmentation/scan_analysis.h"
+#include "parallel.h"
 
 namespace clearway {
 namespace {
@@ -64,6 +66,7 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
   inputs = MapInputs{};
   if (!analysis.ground_found) return;
   const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
+  const Eigen::Isometry3d scanner_from_map = map_from_scanner.inverse();
   const auto& point_plane = analysis.planes.point_plane;
 
   // Which ground candidate each point belongs to (-1: not ground).
@@ -120,16 +123,28 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
         grid.cellOf(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}));
     const Eigen::Vector2i high =
         grid.cellOf(std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}));
-    if (low == high) continue;  // inside one cell: its corners marked it already
-    const double area = (b - a).x() * (c - a).y() - (b - a).y() * (c - a).x();
-    if (std::abs(area) < 1e-12) continue;
+    // Within two neighbouring cells its corners marked it already.
+    if ((high - low).cwiseAbs().maxCoeff() <= 1 && (high - low).cwiseAbs().minCoeff() == 0)
+      continue;
+    // Scanline fill: per row, the triangle's x-interval at the row's centre line.
+    const Eigen::Vector2d corners[3] = {a, b, c};
     for (int row = low.y(); row <= high.y(); ++row) {
-      for (int column = low.x(); column <= high.x(); ++column) {
-        const Eigen::Vector2d p = grid.centre(column, row);
-        const double w0 = ((b - p).x() * (c - p).y() - (b - p).y() * (c - p).x()) / area;
-        const double w1 = ((c - p).x() * (a - p).y() - (c - p).y() * (a - p).x()) / area;
-        if (w0 >= 0 && w1 >= 0 && w0 + w1 <= 1) markGround(column, row, ground_of[triangle[0]]);
+      const double y = grid.origin.y() + (row + 0.5) * grid.resolution;
+      double x_min = std::numeric_limits<double>::max(),
+             x_max = std::numeric_limits<double>::lowest();
+      for (int e = 0; e < 3; ++e) {
+        const Eigen::Vector2d& p = corners[e];
+        const Eigen::Vector2d& q = corners[(e + 1) % 3];
+        if ((p.y() - y) * (q.y() - y) > 0.0 || p.y() == q.y()) continue;  // edge misses the line
+        const double x = p.x() + (y - p.y()) * (q.x() - p.x()) / (q.y() - p.y());
+        x_min = std::min(x_min, x);
+        x_max = std::max(x_max, x);
       }
+      if (x_min > x_max) continue;
+      const int first = int(std::ceil((x_min - grid.origin.x()) / grid.resolution - 0.5));
+      const int last = int(std::floor((x_max - grid.origin.x()) / grid.resolution - 0.5));
+      for (int column = first; column <= last; ++column)
+        markGround(column, row, ground_of[triangle[0]]);
     }
   }
 
@@ -154,32 +169,37 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
     markGround(column, row, plane);
   }
 
-  // Every other point, with its height above the ground beneath it.
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.isValid(i) || ground_of[i] >= 0) continue;
-    const Eigen::Vector3d& m = mapped[i];
-    const Eigen::Vector2i cell = grid.cellOf(m.x(), m.y());
-    if (!grid.inside(cell.x(), cell.y())) continue;
-    const std::size_t index = grid.index(cell.x(), cell.y());
-    double ground = 0.0;
-    if (inputs.ground_plane[index] >= 0) {
-      ground = inputs.ground_height[index];
-    } else {
-      // Under an obstacle the ground is hidden: take the highest ground plane below the point
-      // whose real area reaches there, or the reference plane.
-      ground = analysis.planeHeight(analysis.reference_ground, m.x(), m.y());
-      for (int g : analysis.ground_planes) {
-        const double h = analysis.planeHeight(g, m.x(), m.y());
-        if (h <= m.z() + 0.05 && h > ground) {
-          const Eigen::Vector3d on_plane =
-              map_from_scanner.inverse() * Eigen::Vector3d(m.x(), m.y(), h);
-          if (analysis.planes.supports[std::size_t(g)].contains(on_plane)) ground = h;
+  // Every other point, with its height above the ground beneath it (two halves in parallel).
+  std::vector<std::vector<MapObstacle>> found(2);
+  detail::parallelChunks(
+      scan.size(), 2, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+        for (std::size_t i = begin; i < end; ++i) {
+          if (!scan.isValid(i) || ground_of[i] >= 0) continue;
+          const Eigen::Vector3d& m = mapped[i];
+          const Eigen::Vector2i cell = grid.cellOf(m.x(), m.y());
+          if (!grid.inside(cell.x(), cell.y())) continue;
+          const std::size_t index = grid.index(cell.x(), cell.y());
+          double ground = 0.0;
+          if (inputs.ground_plane[index] >= 0) {
+            ground = inputs.ground_height[index];
+          } else {
+            // Under an obstacle the ground is hidden: take the highest ground plane below the point
+            // whose real area reaches there, or the reference plane.
+            ground = analysis.planeHeight(analysis.reference_ground, m.x(), m.y());
+            for (int g : analysis.ground_planes) {
+              const double h = analysis.planeHeight(g, m.x(), m.y());
+              if (h <= m.z() + 0.05 && h > ground &&
+                  analysis.planes.supports[std::size_t(g)].contains(
+                      scanner_from_map * Eigen::Vector3d(m.x(), m.y(), h)))
+                ground = h;
+            }
+          }
+          found[chunk].push_back({std::uint32_t(index), float(m.x()), float(m.y()), float(m.z()),
+                                  float(m.z() - ground)});
         }
-      }
-    }
-    inputs.obstacles.push_back(
-        {std::uint32_t(index), float(m.x()), float(m.y()), float(m.z()), float(m.z() - ground)});
-  }
+      });
+  for (const auto& part : found)
+    inputs.obstacles.insert(inputs.obstacles.end(), part.begin(), part.end());
 
   // Where cells of two ground planes touch, and the smallest step between them.
   std::map<std::pair<int, int>, float> steps;

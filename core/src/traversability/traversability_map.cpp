@@ -43,9 +43,18 @@ std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
   return offsets;
 }
 
+// Offsets are sorted by radius: the first one at or beyond `radius`.
+std::vector<Offset>::const_iterator firstBeyond(const std::vector<Offset>& offsets, float radius) {
+  return std::lower_bound(offsets.begin(), offsets.end(), radius,
+                          [](const Offset& o, float r) { return o.radius < r; });
+}
+
 struct Footprints {
   std::vector<std::vector<Offset>> enlarged;  // nominal + half a cell on every side
-  std::vector<std::vector<Offset>> reach;     // every cell that may hold a point inside the box
+  // Nominal less 1.2 cells on every side: a blocked cell centre in here blocks the robot wherever
+  // its centre is in the cell (0.4 cells) and wherever the cell's points are (0.71 cells).
+  std::vector<std::vector<Offset>> core;
+  std::vector<std::vector<Offset>> reach;  // every cell that may hold a point inside the box
   std::vector<double> yaw;
   double inner_radius = 0.0;  // cells: inside this the box is blocked in every orientation
   double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
@@ -82,6 +91,8 @@ Footprints makeFootprints(const RobotParams& robot, const MapParams& params,
   for (double yaw : yaws) {
     f.yaw.push_back(yaw);
     f.enlarged.push_back(rectangleOffsets(along + 0.5, across + 0.5, yaw));
+    f.core.push_back(
+        rectangleOffsets(std::max(0.0, along - 1.2), std::max(0.0, across - 1.2), yaw));
     // A cell's points lie within half a diagonal (0.71 cells) of its centre, and the exact check
     // moves the robot's centre up to 0.4 cells: every cell within 1.3 cells may matter.
     f.reach.push_back(rectangleOffsets(along + 1.3, across + 1.3, yaw));
@@ -120,11 +131,10 @@ class FootprintTester {
 
   // Coarse test of the enlarged box: no blocked cell centre inside it.
   bool fitsEnlarged(int column, int row, int orientation) const {
-    const float free_radius = clearance_.at<float>(row, column);
-    for (const Offset& o : footprints_.enlarged[std::size_t(orientation)]) {
-      if (o.radius < free_radius) continue;  // the distance transform vouches for these
-      if (blocked(column + o.dx, row + o.dy)) return false;
-    }
+    // Offsets nearer than the clearance are free: the distance transform vouches for them.
+    const auto& offsets = footprints_.enlarged[std::size_t(orientation)];
+    for (auto o = firstBeyond(offsets, clearance_.at<float>(row, column)); o != offsets.end(); ++o)
+      if (blocked(column + o->dx, row + o->dy)) return false;
     return true;
   }
 
@@ -133,6 +143,11 @@ class FootprintTester {
   // The paper's finer discretisation: the robot's centre may be anywhere in the cell, tried at
   // 5 x 5 positions a fifth of a cell apart, centre first.
   bool fitsExactlyInCell(int column, int row, int orientation) const {
+    // Cheap necessary condition first: nothing that blocks deep inside the box.
+    const auto& core = footprints_.core[std::size_t(orientation)];
+    for (auto o = firstBeyond(core, lenient_clearance_.at<float>(row, column)); o != core.end();
+         ++o)
+      if (blockedLeniently(column + o->dx, row + o->dy)) return false;
     const double step = grid_.resolution / 5.0;
     static constexpr int kOrder[5] = {0, -1, 1, -2, 2};
     for (int sy : kOrder)
@@ -151,10 +166,10 @@ class FootprintTester {
       const double dx = x - centre.x(), dy = y - centre.y();
       return std::abs(dx * c + dy * s) < half_length && std::abs(-dx * s + dy * c) < half_width;
     };
-    const float free_radius = lenient_clearance_.at<float>(row, column);
-    for (const Offset& o : footprints_.reach[std::size_t(orientation)]) {
-      if (o.radius + 1.3F < free_radius) continue;
-      const int cc = column + o.dx, rr = row + o.dy;
+    const auto& reach = footprints_.reach[std::size_t(orientation)];
+    for (auto o = firstBeyond(reach, lenient_clearance_.at<float>(row, column) - 1.3F);
+         o != reach.end(); ++o) {
+      const int cc = column + o->dx, rr = row + o->dy;
       if (!blockedLeniently(cc, rr)) continue;
       const std::size_t cell = grid_.index(cc, rr);
       if (classes_.blocked_by_points_only[cell]) {
@@ -302,6 +317,8 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   detail::parallelChunks(
       std::size_t(map.grid.height), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
         for (int row = int(begin); row < int(end); ++row) {
+          // Neighbouring cells tend to fit the same way: start where the last cell fitted.
+          int last_fit = 0;
           for (int column = 0; column < map.grid.width; ++column) {
             const std::size_t cell = map.grid.index(column, row);
             const CellState state = classes.state[cell];
@@ -316,15 +333,24 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
             bool careful = false;
             if (free_radius > footprints.outer_radius) {
               fit = 0;
-            } else if (lenient_clearance.at<float>(row, column) + 1.0 >= footprints.inner_radius) {
-              for (int k = 0; k < orientations && fit < 0; ++k)
-                if (tester.fitsEnlarged(column, row, k)) fit = k;
-              for (int k = 0; k < orientations && fit < 0; ++k)
-                if (tester.fitsExactlyInCell(column, row, k)) {
-                  fit = k;
-                  careful = true;
+            } else {
+              // Within the inscribed radius something blocks the box in every orientation.
+              if (free_radius >= footprints.inner_radius + 0.5F)
+                for (int n = 0; n < orientations && fit < 0; ++n) {
+                  const int k = (last_fit + n) % orientations;
+                  if (tester.fitsEnlarged(column, row, k)) fit = k;
+                }
+              if (fit < 0 &&
+                  lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 1.2F)
+                for (int n = 0; n < orientations && fit < 0; ++n) {
+                  const int k = (last_fit + n) % orientations;
+                  if (tester.fitsExactlyInCell(column, row, k)) {
+                    fit = k;
+                    careful = true;
+                  }
                 }
             }
+            if (fit >= 0) last_fit = fit;
             if (fit < 0) {
               map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
               map.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);

@@ -83,8 +83,12 @@ struct ScanAnalysis {
   MapInputs inputs;
   std::vector<StageTiming> timings;
 
-  // Map height of a ground plane above the map point (x, y).
-  double planeHeight(int plane, double x, double y) const;
+  // Map height of a ground plane above the map point (x, y): h = c0 + c1 x + c2 y.
+  double planeHeight(int plane, double x, double y) const {
+    const Eigen::Vector3d& c = height_coefficients[std::size_t(plane)];
+    return c[0] + c[1] * x + c[2] * y;
+  }
+  std::vector<Eigen::Vector3d> height_coefficients;  // per plane, set with the map frame
 };
 
 // Runs stages 1-4 and prepares the map inputs. Throws OperationCancelled when asked to stop.
