@@ -49,6 +49,18 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
 
   // Ground: the scan-grid triangles whose centre lies on a cell the robot may use.
+  // Each ground point's cell label, looked up once; a triangle is drawn when at least two of its
+  // corners lie on cells the robot may use.
+  constexpr std::uint8_t kUnlabelled = 255;
+  std::vector<std::uint8_t> point_label(scan.size(), kUnlabelled);
+  auto labelOf = [&](std::uint32_t point) {
+    if (point_label[point] == kUnlabelled) {
+      const Point3f& p = scan.points[point];
+      const Eigen::Vector3d m = analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+      point_label[point] = std::uint8_t(labelAt(map, m.x(), m.y()));
+    }
+    return CellLabel(point_label[point]);
+  };
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> vertex_of(scan.size(), kNone);
   auto vertex = [&](std::uint32_t point) {
@@ -56,19 +68,15 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
       vertex_of[point] = std::uint32_t(scene.vertices.size());
       const Point3f& p = scan.points[point];
       scene.vertices.emplace_back(p.x, p.y, p.z);
-      const Eigen::Vector3d m = analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
-      scene.vertex_labels.push_back(labelAt(map, m.x(), m.y()));
+      scene.vertex_labels.push_back(labelOf(point));
     }
     return vertex_of[point];
   };
   for (const auto& triangle : analysis.inputs.ground_triangles) {
-    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
-    for (std::uint32_t i : triangle) {
-      const Point3f& p = scan.points[i];
-      centre += Eigen::Vector3d(p.x, p.y, p.z) / 3.0;
-    }
-    const Eigen::Vector3d m = analysis.map_from_scanner * centre;
-    if (!drawnAsGround(labelAt(map, m.x(), m.y()))) continue;
+    const int drawn = int(drawnAsGround(labelOf(triangle[0]))) +
+                      int(drawnAsGround(labelOf(triangle[1]))) +
+                      int(drawnAsGround(labelOf(triangle[2])));
+    if (drawn < 2) continue;
     scene.triangles.push_back({vertex(triangle[0]), vertex(triangle[1]), vertex(triangle[2])});
   }
 

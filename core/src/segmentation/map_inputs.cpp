@@ -37,25 +37,32 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
     return dx * dx + dy * dy + dz * dz <= max_edge_squared;
   };
-  auto add = [&](std::size_t a, std::size_t b, std::size_t c) {
+  auto add = [&](std::vector<std::array<std::uint32_t, 3>>& out, std::size_t a, std::size_t b,
+                 std::size_t c) {
     const std::int32_t g = ground_of[a];
     if (g < 0 || ground_of[b] != g || ground_of[c] != g) return;
     if (!close(a, b) || !close(b, c) || !close(a, c)) return;
-    triangles.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+    out.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
   };
   const std::size_t lines = scan.lines.size();
   // A RoSi revolution closes on itself: its last line neighbours its first.
   const bool revolution = lines > 2 && std::isfinite(scan.lines.front().beta) && scan.isOrganised();
-  for (std::size_t l = 0; l + 1 < lines + (revolution ? 1 : 0); ++l) {
-    const ScanLine& a = scan.lines[l];
-    const ScanLine& b = scan.lines[(l + 1) % lines];
-    for (std::size_t k = 0; k + 1 < a.count; ++k) {
-      const std::size_t a0 = a.first + k, a1 = a0 + 1;
-      const std::size_t b0 = partner(a, b, k), b1 = partner(a, b, k + 1);
-      add(a0, a1, b0);
-      if (b1 != b0) add(a1, b1, b0);
+  const std::size_t pairs = lines == 0 ? 0 : lines - 1 + (revolution ? 1 : 0);
+  std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(2);
+  detail::parallelChunks(pairs, 2, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+    for (std::size_t l = begin; l < end; ++l) {
+      const ScanLine& a = scan.lines[l];
+      const ScanLine& b = scan.lines[(l + 1) % lines];
+      for (std::size_t k = 0; k + 1 < a.count; ++k) {
+        const std::size_t a0 = a.first + k, a1 = a0 + 1;
+        const std::size_t b0 = partner(a, b, k), b1 = partner(a, b, k + 1);
+        add(parts[chunk], a0, a1, b0);
+        if (b1 != b0) add(parts[chunk], a1, b1, b0);
+      }
     }
-  }
+  });
+  for (const auto& part : parts)
+    triangles.insert(triangles.end(), part.begin(), part.end());
   return triangles;
 }
 

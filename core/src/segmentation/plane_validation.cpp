@@ -16,16 +16,21 @@ namespace {
 // Planes whose real area is this many times the minimum extend over their sparse outer rings.
 constexpr int kGrowthAreaFactor = 5;
 
-// Supporting point indices of a plane.
-std::vector<std::uint32_t> supportingPoints(const Scan& scan, const Plane& plane, double distance) {
+// Supporting point indices of a plane; `inner` counts those within half the distance.
+std::vector<std::uint32_t> supportingPoints(const Scan& scan, const Plane& plane, double distance,
+                                            std::size_t& inner) {
   const float nx = float(plane.normal.x()), ny = float(plane.normal.y()),
               nz = float(plane.normal.z());
-  const float offset = float(plane.offset), tolerance = float(distance);
+  const float offset = float(plane.offset), tolerance = float(distance), half = tolerance / 2;
   std::vector<std::uint32_t> support;
+  inner = 0;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const Point3f& p = scan.points[i];
-    if (std::abs(nx * p.x + ny * p.y + nz * p.z - offset) <= tolerance && scan.isValid(i))
+    const float d = std::abs(nx * p.x + ny * p.y + nz * p.z - offset);
+    if (d <= tolerance && scan.isValid(i)) {
       support.push_back(std::uint32_t(i));
+      inner += d <= half;
+    }
   }
   return support;
 }
@@ -111,18 +116,6 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   return largest * cell_area;
 }
 
-// Share of the supporting points within `half_band` of the plane.
-double innerFraction(const Scan& scan, const Plane& plane,
-                     const std::vector<std::uint32_t>& support, double half_band) {
-  if (support.empty()) return 0.0;
-  std::size_t inner = 0;
-  for (std::uint32_t i : support) {
-    const Point3f& p = scan.points[i];
-    if (std::abs(plane.signedDistance(Eigen::Vector3d(p.x, p.y, p.z))) <= half_band) ++inner;
-  }
-  return double(inner) / double(support.size());
-}
-
 }  // namespace
 
 bool SupportImage::contains(const Eigen::Vector3d& p) const {
@@ -140,14 +133,15 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
       candidates.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t k = begin; k < end; ++k) {
           Plane& plane = candidates[k];
-          supports[k] = supportingPoints(scan, plane, params.support_distance);
+          std::size_t inner = 0;
+          supports[k] = supportingPoints(scan, plane, params.support_distance, inner);
           plane.support_points = supports[k].size();
           const double area = supports[k].empty()
                                   ? 0.0
                                   : buildSupportImage(scan, plane, supports[k], params, images[k]);
           plane.support_area = area;
           plane.inner_fraction =
-              innerFraction(scan, plane, supports[k], params.support_distance / 2);
+              supports[k].empty() ? 0.0 : double(inner) / double(supports[k].size());
           plane.validated =
               area >= params.min_area && plane.inner_fraction >= params.min_inner_fraction;
         }

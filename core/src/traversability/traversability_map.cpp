@@ -111,22 +111,35 @@ class FootprintTester {
         classes_(classes),
         clearance_(clearance),
         lenient_clearance_(lenient_clearance),
-        tolerated_(tolerated),
         footprints_(footprints),
-        robot_(robot) {}
-
-  // For the careful check: unobserved cells close to observed free ground do not block.
-  bool blockedLeniently(int column, int row) const {
-    if (!grid_.inside(column, row)) return true;
-    const CellState state = classes_.state[grid_.index(column, row)];
-    if (state == CellState::kUnknown) return tolerated_.at<std::uint8_t>(row, column) == 0;
-    return state == CellState::kBlocked;
+        robot_(robot) {
+    // One byte per cell, so each offset costs one read: strict (blocked or unobserved) and lenient
+    // (0 passable, 1 blocked by measured points only, 2 blocked otherwise).
+    strict_.resize(grid.cells());
+    lenient_.resize(grid.cells());
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column) {
+        const std::size_t cell = grid.index(column, row);
+        const CellState state = classes.state[cell];
+        strict_[cell] = state == CellState::kBlocked || state == CellState::kUnknown;
+        if (state == CellState::kBlocked) {
+          lenient_[cell] = classes.blocked_by_points_only[cell] ? 1 : 2;
+        } else if (state == CellState::kUnknown) {
+          lenient_[cell] = tolerated.at<std::uint8_t>(row, column) ? 0 : 2;
+        } else {
+          lenient_[cell] = 0;
+        }
+      }
   }
 
+  // For the careful check: 0 passable, 1 blocked by measured points only, 2 blocked otherwise.
+  std::uint8_t lenientCode(int column, int row) const {
+    return grid_.inside(column, row) ? lenient_[grid_.index(column, row)] : 2;
+  }
+  bool blockedLeniently(int column, int row) const { return lenientCode(column, row) != 0; }
+
   bool blocked(int column, int row) const {
-    if (!grid_.inside(column, row)) return true;
-    const CellState state = classes_.state[grid_.index(column, row)];
-    return state == CellState::kBlocked || state == CellState::kUnknown;
+    return !grid_.inside(column, row) || strict_[grid_.index(column, row)];
   }
 
   // Coarse test of the enlarged box: no blocked cell centre inside it.
@@ -170,9 +183,10 @@ class FootprintTester {
     for (auto o = firstBeyond(reach, lenient_clearance_.at<float>(row, column) - 1.3F);
          o != reach.end(); ++o) {
       const int cc = column + o->dx, rr = row + o->dy;
-      if (!blockedLeniently(cc, rr)) continue;
+      const std::uint8_t code = lenientCode(cc, rr);
+      if (code == 0) continue;
       const std::size_t cell = grid_.index(cc, rr);
-      if (classes_.blocked_by_points_only[cell]) {
+      if (code == 1) {
         for (std::uint32_t k = classes_.point_start[cell]; k < classes_.point_start[cell + 1]; ++k)
           if (inside(classes_.xs[k], classes_.ys[k])) return false;
       } else {
@@ -188,7 +202,8 @@ class FootprintTester {
   const CellClasses& classes_;
   const cv::Mat& clearance_;
   const cv::Mat& lenient_clearance_;
-  const cv::Mat& tolerated_;
+  std::vector<std::uint8_t> strict_;
+  std::vector<std::uint8_t> lenient_;
   const Footprints& footprints_;
   const RobotParams& robot_;
 };
@@ -304,10 +319,13 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
 
   // Clearance: distance (in cells) from each cell centre to the nearest cell that blocks, strictly
   // (unobserved blocks) and leniently (tolerated unobserved cells do not).
+  // The 5x5 mask is within a few per cent of the exact distance; one cell less keeps every use of
+  // the clearance conservative (it may only make the tests below do more work, never skip a cell).
   cv::Mat clearance, lenient_clearance;
-  cv::distanceTransform(free_mask, clearance, cv::DIST_L2, cv::DIST_MASK_PRECISE);
-  cv::distanceTransform(free_mask | tolerated, lenient_clearance, cv::DIST_L2,
-                        cv::DIST_MASK_PRECISE);
+  cv::distanceTransform(free_mask, clearance, cv::DIST_L2, cv::DIST_MASK_5);
+  cv::distanceTransform(free_mask | tolerated, lenient_clearance, cv::DIST_L2, cv::DIST_MASK_5);
+  clearance -= 1.0F;
+  lenient_clearance -= 1.0F;
 
   map.yaws = orientationsToTry(analysis, params.orientations);
   const Footprints footprints = makeFootprints(robot, grid_params, map.yaws);
@@ -340,8 +358,11 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
                   const int k = (last_fit + n) % orientations;
                   if (tester.fitsEnlarged(column, row, k)) fit = k;
                 }
+              // A blocked cell's points lie up to 0.71 cells beyond its centre and the robot's
+              // centre moves up to 0.57 cells in its cell: below inradius - 1.28 (and the
+              // clearance's one-cell margin) no position can fit.
               if (fit < 0 &&
-                  lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 1.2F)
+                  lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 2.3F)
                 for (int n = 0; n < orientations && fit < 0; ++n) {
                   const int k = (last_fit + n) % orientations;
                   if (tester.fitsExactlyInCell(column, row, k)) {

@@ -1,0 +1,26 @@
+# cmake -DBUILD_DIR=... -P CheckDebPackage.cmake: builds the .deb with CPack into a scratch folder
+# and checks that it holds what the issue asks: both executables, the desktop entry and the icon.
+set(out "${BUILD_DIR}/package-check")
+file(REMOVE_RECURSE "${out}")
+execute_process(COMMAND cpack -G DEB -B "${out}" WORKING_DIRECTORY "${BUILD_DIR}"
+                RESULT_VARIABLE result OUTPUT_VARIABLE log ERROR_VARIABLE log)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "cpack failed:\n${log}")
+endif()
+file(GLOB debs "${out}/*.deb")
+list(LENGTH debs count)
+if(NOT count EQUAL 1)
+  message(FATAL_ERROR "expected one .deb in ${out}, found ${count}")
+endif()
+execute_process(COMMAND dpkg-deb -c ${debs} OUTPUT_VARIABLE contents RESULT_VARIABLE result)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "dpkg-deb cannot read ${debs}")
+endif()
+foreach(expected usr/bin/clearway-cli usr/bin/clearway usr/share/applications/clearway.desktop
+        usr/share/icons/hicolor/scalable/apps/clearway.svg usr/share/clearway/samples/garage.pcd)
+  string(FIND "${contents}" "./${expected}" position)
+  if(position EQUAL -1)
+    message(FATAL_ERROR "${debs} lacks ${expected}")
+  endif()
+endforeach()
+message(STATUS "${debs} holds both executables, the desktop entry, the icon and the samples")
