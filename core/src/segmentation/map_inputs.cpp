@@ -14,7 +14,7 @@
 namespace clearway {
 namespace {
 
-constexpr double kMapMargin = 2.0;  // [m]
+constexpr double kMapMargin = 0.25;  // [m]
 
 // Neighbouring lines are paired point by point: same index for organised scans, same relative
 // position along the line for ragged ones.
@@ -85,19 +85,25 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
     if (point_plane[i] >= 0 && is_ground_plane[std::size_t(point_plane[i])])
       ground_of[i] = point_plane[i];
 
-  // The grid covers the ground seen, plus room for the robot at its edge, within max_extent.
-  Eigen::AlignedBox2d box;
+  // Every point in the map frame (two halves in parallel); the grid covers the ground seen,
+  // within max_extent of the scanner.
   std::vector<Eigen::Vector3d> mapped(scan.size());
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.isValid(i)) continue;
-    const Point3f& p = scan.points[i];
-    mapped[i] = map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
-    if (ground_of[i] >= 0 && mapped[i].head<2>().norm() <= params.map.max_extent)
-      box.extend(mapped[i].head<2>());
-  }
+  Eigen::AlignedBox2d halves[2];
+  detail::parallelChunks(
+      scan.size(), 2, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+        for (std::size_t i = begin; i < end; ++i) {
+          if (!scan.isValid(i)) continue;
+          const Point3f& p = scan.points[i];
+          mapped[i] = map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+          if (ground_of[i] >= 0 && mapped[i].head<2>().norm() <= params.map.max_extent)
+            halves[chunk].extend(mapped[i].head<2>());
+        }
+      });
+  Eigen::AlignedBox2d box = halves[0];
+  if (!halves[1].isEmpty()) box.extend(halves[1]);
   if (box.isEmpty()) box.extend(Eigen::Vector2d::Zero());
-  // Room for the robot's box at the edge of the ground, the same for every robot so that a re-run
-  // for a new size keeps the grid (cells outside the grid count as blocked).
+  // A thin rim around the ground, the same for every robot so that a re-run for a new size keeps
+  // the grid. Nothing outside it was observed ground, and cells outside the grid count as blocked.
   const double margin = kMapMargin;
   MapGrid& grid = inputs.grid;
   grid.resolution = params.map.resolution;
@@ -123,37 +129,44 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
     markGround(cell.x(), cell.y(), ground_of[i]);
   }
   inputs.ground_triangles = groundTriangles(scan, ground_of, params.map.max_triangle_edge);
-  for (const auto& triangle : inputs.ground_triangles) {
-    const Eigen::Vector2d a = mapped[triangle[0]].head<2>(), b = mapped[triangle[1]].head<2>(),
-                          c = mapped[triangle[2]].head<2>();
-    const Eigen::Vector2i low =
-        grid.cellOf(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}));
-    const Eigen::Vector2i high =
-        grid.cellOf(std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}));
-    // Within two neighbouring cells its corners marked it already.
-    if ((high - low).cwiseAbs().maxCoeff() <= 1 && (high - low).cwiseAbs().minCoeff() == 0)
-      continue;
-    // Scanline fill: per row, the triangle's x-interval at the row's centre line.
-    const Eigen::Vector2d corners[3] = {a, b, c};
-    for (int row = low.y(); row <= high.y(); ++row) {
-      const double y = grid.origin.y() + (row + 0.5) * grid.resolution;
-      double x_min = std::numeric_limits<double>::max(),
-             x_max = std::numeric_limits<double>::lowest();
-      for (int e = 0; e < 3; ++e) {
-        const Eigen::Vector2d& p = corners[e];
-        const Eigen::Vector2d& q = corners[(e + 1) % 3];
-        if ((p.y() - y) * (q.y() - y) > 0.0 || p.y() == q.y()) continue;  // edge misses the line
-        const double x = p.x() + (y - p.y()) * (q.x() - p.x()) / (q.y() - p.y());
-        x_min = std::min(x_min, x);
-        x_max = std::max(x_max, x);
-      }
-      if (x_min > x_max) continue;
-      const int first = int(std::ceil((x_min - grid.origin.x()) / grid.resolution - 0.5));
-      const int last = int(std::floor((x_max - grid.origin.x()) / grid.resolution - 0.5));
-      for (int column = first; column <= last; ++column)
-        markGround(column, row, ground_of[triangle[0]]);
-    }
-  }
+  // The triangles' cells, each thread owning half of the grid's rows (no cell is written twice).
+  detail::parallelChunks(
+      std::size_t(grid.height), 2, [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
+        for (const auto& triangle : inputs.ground_triangles) {
+          const Eigen::Vector2d a = mapped[triangle[0]].head<2>(),
+                                b = mapped[triangle[1]].head<2>(),
+                                c = mapped[triangle[2]].head<2>();
+          const Eigen::Vector2i low =
+              grid.cellOf(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}));
+          const Eigen::Vector2i high =
+              grid.cellOf(std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}));
+          // Within two neighbouring cells its corners marked it already.
+          if ((high - low).cwiseAbs().maxCoeff() <= 1 && (high - low).cwiseAbs().minCoeff() == 0)
+            continue;
+          // Scanline fill: per row, the triangle's x-interval at the row's centre line.
+          const Eigen::Vector2d corners[3] = {a, b, c};
+          for (int row = std::max(low.y(), int(row_begin));
+               row <= std::min(high.y(), int(row_end) - 1); ++row) {
+            const double y = grid.origin.y() + (row + 0.5) * grid.resolution;
+            double x_min = std::numeric_limits<double>::max(),
+                   x_max = std::numeric_limits<double>::lowest();
+            for (int e = 0; e < 3; ++e) {
+              const Eigen::Vector2d& p = corners[e];
+              const Eigen::Vector2d& q = corners[(e + 1) % 3];
+              if ((p.y() - y) * (q.y() - y) > 0.0 || p.y() == q.y())
+                continue;  // edge misses the line
+              const double x = p.x() + (y - p.y()) * (q.x() - p.x()) / (q.y() - p.y());
+              x_min = std::min(x_min, x);
+              x_max = std::max(x_max, x);
+            }
+            if (x_min > x_max) continue;
+            const int first = int(std::ceil((x_min - grid.origin.x()) / grid.resolution - 0.5));
+            const int last = int(std::floor((x_max - grid.origin.x()) / grid.resolution - 0.5));
+            for (int column = first; column <= last; ++column)
+              markGround(column, row, ground_of[triangle[0]]);
+          }
+        }
+      });
 
   // Single unobserved cells inside observed ground (a beam that fell between two cells) are
   // ground too: at least five of their eight neighbours are ground of one plane.
@@ -161,13 +174,23 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
   for (int row = 1; row + 1 < grid.height; ++row) {
     for (int column = 1; column + 1 < grid.width; ++column) {
       if (inputs.ground_plane[grid.index(column, row)] >= 0) continue;
-      std::map<int, int> votes;
+      // Five of eight neighbours must agree: count the neighbours' planes in a small array.
+      int planes[8], counts[8], distinct = 0;
       for (int dr = -1; dr <= 1; ++dr)
-        for (int dc = -1; dc <= 1; ++dc)
-          if (const int g = inputs.ground_plane[grid.index(column + dc, row + dr)]; g >= 0)
-            ++votes[g];
-      for (const auto& [plane, count] : votes)
-        if (count >= 5) holes.emplace_back(grid.index(column, row), plane);
+        for (int dc = -1; dc <= 1; ++dc) {
+          const int g = inputs.ground_plane[grid.index(column + dc, row + dr)];
+          if (g < 0) continue;
+          int k = 0;
+          while (k < distinct && planes[k] != g)
+            ++k;
+          if (k == distinct) {
+            planes[distinct] = g;
+            counts[distinct++] = 0;
+          }
+          ++counts[k];
+        }
+      for (int k = 0; k < distinct; ++k)
+        if (counts[k] >= 5) holes.emplace_back(grid.index(column, row), planes[k]);
     }
   }
   for (const auto& [cell, plane] : holes) {

@@ -161,40 +161,46 @@ class FootprintTester {
     for (auto o = firstBeyond(core, lenient_clearance_.at<float>(row, column)); o != core.end();
          ++o)
       if (blockedLeniently(column + o->dx, row + o->dy)) return false;
-    const double step = grid_.resolution / 5.0;
-    static constexpr int kOrder[5] = {0, -1, 1, -2, 2};
-    for (int sy : kOrder)
-      for (int sx : kOrder)
-        if (fitsExactly(column, row, orientation,
-                        grid_.centre(column, row) + Eigen::Vector2d(sx * step, sy * step)))
-          return true;
-    return false;
-  }
-
-  bool fitsExactly(int column, int row, int orientation, const Eigen::Vector2d& centre) const {
+    // What could touch the box, gathered once in the box's own frame (u along, v across), then
+    // tried against the 5 x 5 centres a fifth of a cell apart, the cell's centre first.
     const double yaw = footprints_.yaw[std::size_t(orientation)];
     const double c = std::cos(yaw), s = std::sin(yaw);
-    const double half_length = robot_.length / 2, half_width = robot_.width / 2;
-    auto inside = [&](double x, double y) {
+    const Eigen::Vector2d centre = grid_.centre(column, row);
+    thread_local std::vector<Eigen::Vector2d> items;
+    items.clear();
+    auto add = [&](double x, double y) {
       const double dx = x - centre.x(), dy = y - centre.y();
-      return std::abs(dx * c + dy * s) < half_length && std::abs(-dx * s + dy * c) < half_width;
+      items.emplace_back(dx * c + dy * s, -dx * s + dy * c);
     };
+    // Offsets nearer than the clearance are passable: the distance transform vouches for them.
     const auto& reach = footprints_.reach[std::size_t(orientation)];
-    for (auto o = firstBeyond(reach, lenient_clearance_.at<float>(row, column) - 1.3F);
-         o != reach.end(); ++o) {
+    for (auto o = firstBeyond(reach, lenient_clearance_.at<float>(row, column)); o != reach.end();
+         ++o) {
       const int cc = column + o->dx, rr = row + o->dy;
       const std::uint8_t code = lenientCode(cc, rr);
       if (code == 0) continue;
       const std::size_t cell = grid_.index(cc, rr);
       if (code == 1) {
         for (std::uint32_t k = classes_.point_start[cell]; k < classes_.point_start[cell + 1]; ++k)
-          if (inside(classes_.xs[k], classes_.ys[k])) return false;
+          add(classes_.xs[k], classes_.ys[k]);
       } else {
         const Eigen::Vector2d other = grid_.centre(cc, rr);
-        if (inside(other.x(), other.y())) return false;
+        add(other.x(), other.y());
       }
     }
-    return true;
+    const double half_length = robot_.length / 2, half_width = robot_.width / 2;
+    const double step = grid_.resolution / 5.0;
+    static constexpr int kOrder[5] = {0, -1, 1, -2, 2};
+    for (int sy : kOrder)
+      for (int sx : kOrder) {
+        const double du = (sx * c + sy * s) * step, dv = (-sx * s + sy * c) * step;
+        const bool clear =
+            std::none_of(items.begin(), items.end(), [&](const Eigen::Vector2d& item) {
+              return std::abs(item.x() - du) < half_length && std::abs(item.y() - dv) < half_width;
+            });
+        if (clear) return true;
+      }
+    return false;
   }
 
  private:
