@@ -3,9 +3,16 @@
 #include <QMainWindow>
 #include <memory>
 
+#include "clearway/segmentation/params.h"
+
 namespace clearway::ui {
 
-// The operator console's main window. It only wires panels and workers together.
+class MapView;
+class RobotPanel;
+class SegmentationSession;
+struct SessionResult;
+
+// The operator console's main window. It only wires panels and the session together.
 class MainWindow : public QMainWindow {
   Q_OBJECT
 
@@ -13,10 +20,25 @@ class MainWindow : public QMainWindow {
   explicit MainWindow(QWidget* parent = nullptr);
   ~MainWindow() override;
 
-  // Loads a scan in the background; the window stays responsive.
+  // Loads and segments a scan in the background; the window stays responsive.
   void openScan(const QString& path);
+  void setRobot(const RobotParams& robot);
+
+  MapView* mapView() const;
+  RobotPanel* robotPanel() const;
+  SegmentationSession* session() const;
+  // Saves a picture of the whole window; false (with a message on stderr) when it cannot.
+  bool saveScreenshot(const QString& path);
+
+ signals:
+  // A result (or a failure) has been shown.
+  void resultShown(bool trusted);
+  void failureShown(const QString& reason);
 
  private:
+  void showResult(const SessionResult& result);
+  void showFailure(const QString& reason);
+
   struct Private;
   std::unique_ptr<Private> d_;
 };

@@ -1,0 +1,57 @@
+#pragma once
+
+// The console's engine room: loads a scan and runs the pipeline in the background, keeps the scan
+// analysis, and re-runs only the traversability check when the robot changes — debounced, newest
+// request wins, never blocking the GUI thread (Qt5: QtConcurrent + QFutureWatcher).
+
+#include <QObject>
+#include <QString>
+#include <memory>
+
+#include "clearway/pipeline.h"
+#include "clearway/scan.h"
+#include "clearway/segmentation/params.h"
+
+namespace clearway::ui {
+
+// What the window shows: the scan and the result of the pipeline on it.
+struct SessionResult {
+  std::shared_ptr<const Scan> scan;
+  std::shared_ptr<const PipelineResult> result;
+  QString scan_path;
+};
+
+class SegmentationSession : public QObject {
+  Q_OBJECT
+
+ public:
+  explicit SegmentationSession(QObject* parent = nullptr);
+  ~SegmentationSession() override;  // waits for running work, which it cancels first
+
+  // Loads and segments a scan file; cancels any job still running.
+  void openScan(const QString& path);
+  // Re-runs stages 5-6 for a new robot after a short pause (slider drags coalesce).
+  void setRobot(const RobotParams& robot);
+  void setParams(const SegmentationParams& params);
+  const SegmentationParams& params() const { return params_; }
+  void cancel();
+  bool busy() const;
+
+  // Milliseconds a robot change waits for the next one before the re-run starts.
+  static constexpr int kRobotDebounceMs = 120;
+
+ signals:
+  void progress(int percent, const QString& what);
+  void resultReady(const clearway::ui::SessionResult& result);
+  void failed(const QString& reason);
+  void busyChanged(bool busy);
+
+ private:
+  struct Private;
+  std::unique_ptr<Private> d_;
+  SegmentationParams params_;
+};
+
+}  // namespace clearway::ui
+
+Q_DECLARE_METATYPE(clearway::ui::SessionResult)

@@ -1,0 +1,113 @@
+#include "clearway/ui/robot_panel.h"
+
+#include <QComboBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QHBoxLayout>
+#include <QSignalBlocker>
+#include <QSlider>
+#include <cmath>
+
+namespace clearway::ui {
+namespace {
+
+// Slider steps are centimetres.
+constexpr double kSliderScale = 100.0;
+
+const ParameterInfo& infoFor(const std::vector<ParameterInfo>& infos, const std::string& key) {
+  for (const ParameterInfo& info : infos)
+    if (info.key == key) return info;
+  throw std::invalid_argument(key);
+}
+
+}  // namespace
+
+struct RobotPanel::Private {
+  struct Dimension {
+    std::string key;
+    QSlider* slider = nullptr;
+    QDoubleSpinBox* spin = nullptr;
+  };
+  std::vector<Dimension> dimensions;
+  QComboBox* presets = nullptr;
+  std::string name = "custom";
+};
+
+RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Private>()) {
+  setObjectName("robotPanel");
+  auto* form = new QFormLayout(this);
+  d_->presets = new QComboBox(this);
+  d_->presets->setObjectName("robotPresets");
+  for (const RobotParams& preset : robotPresets())
+    d_->presets->addItem(QString::fromStdString(preset.name));
+  form->addRow(tr("Preset"), d_->presets);
+
+  const auto infos = describeParameters();
+  const std::pair<const char*, QString> rows[] = {{"robot.width", tr("Width [m]")},
+                                                  {"robot.length", tr("Length [m]")},
+                                                  {"robot.height", tr("Height [m]")},
+                                                  {"robot.max_step", tr("Step [m]")}};
+  for (const auto& [key, label] : rows) {
+    const ParameterInfo& info = infoFor(infos, key);
+    Private::Dimension dimension{key};
+    dimension.slider = new QSlider(Qt::Horizontal, this);
+    dimension.slider->setRange(int(std::ceil(info.minimum * kSliderScale)),
+                               int(std::floor(std::min(info.maximum, 4.0) * kSliderScale)));
+    dimension.spin = new QDoubleSpinBox(this);
+    dimension.spin->setRange(info.minimum, info.maximum);
+    dimension.spin->setDecimals(2);
+    dimension.spin->setSingleStep(0.01);
+    dimension.spin->setToolTip(QString::fromStdString(info.description));
+    const QString name = QString::fromStdString(key).replace('.', '_');
+    dimension.slider->setObjectName(name + "_slider");
+    dimension.spin->setObjectName(name + "_spin");
+    auto* row = new QHBoxLayout;
+    row->addWidget(dimension.slider, 1);
+    row->addWidget(dimension.spin);
+    form->addRow(label, row);
+    d_->dimensions.push_back(dimension);
+  }
+
+  for (const auto& dimension : d_->dimensions) {
+    connect(dimension.slider, &QSlider::valueChanged, this,
+            [this, spin = dimension.spin](int value) { spin->setValue(value / kSliderScale); });
+    connect(dimension.spin, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
+            [this, slider = dimension.slider](double value) {
+              const QSignalBlocker block(slider);
+              slider->setValue(int(std::lround(value * kSliderScale)));
+              d_->name = "custom";
+              emit robotChanged(robot());
+            });
+  }
+  connect(d_->presets, qOverload<int>(&QComboBox::activated), this,
+          [this](int index) { setRobot(robotPresets()[std::size_t(index)]); });
+  setRobot(robotPresets().front());
+}
+
+RobotPanel::~RobotPanel() = default;
+
+RobotParams RobotPanel::robot() const {
+  SegmentationParams params;
+  for (const auto& dimension : d_->dimensions)
+    setParameterValue(params, dimension.key, dimension.spin->value());
+  params.robot.name = d_->name;
+  return params.robot;
+}
+
+void RobotPanel::setRobot(const RobotParams& robot) {
+  SegmentationParams params;
+  params.robot = robot;
+  bool changed = false;
+  for (const auto& dimension : d_->dimensions) {
+    const double value = parameterValue(params, dimension.key);
+    if (std::abs(dimension.spin->value() - value) < 1e-9) continue;
+    const QSignalBlocker block_spin(dimension.spin), block_slider(dimension.slider);
+    dimension.spin->setValue(value);
+    dimension.slider->setValue(int(std::lround(value * kSliderScale)));
+    changed = true;
+  }
+  d_->name = robot.name;
+  if (changed) emit robotChanged(this->robot());
+}
+
+}  // namespace clearway::ui

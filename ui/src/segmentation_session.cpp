@@ -1,0 +1,162 @@
+#include "clearway/ui/segmentation_session.h"
+
+#include <QFutureWatcher>
+#include <QPointer>
+#include <QTimer>
+#include <QtConcurrent/QtConcurrentRun>
+#include <atomic>
+
+#include "clearway/io/scan_io.h"
+
+namespace clearway::ui {
+namespace {
+
+struct JobOutcome {
+  SessionResult result;
+  QString error;  // empty on success
+  bool cancelled = false;
+};
+
+// Shared between the GUI thread and one job: the job reads it through the progress callback.
+struct JobControl {
+  std::atomic<bool> cancel{false};
+  std::atomic<int> percent{0};
+};
+
+JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
+                          std::shared_ptr<JobControl> control) {
+  JobOutcome outcome;
+  outcome.result.scan_path = path;
+  try {
+    LoadOptions options;
+    options.progress = [control](double f) {
+      control->percent = int(30 * f);
+      return !control->cancel;
+    };
+    auto scan = std::make_shared<const Scan>(loadScan(path.toStdString(), options));
+    auto result =
+        std::make_shared<const PipelineResult>(runPipeline(*scan, params, 2, [control](double f) {
+          control->percent = 30 + int(70 * f);
+          return !control->cancel;
+        }));
+    outcome.result.scan = std::move(scan);
+    outcome.result.result = std::move(result);
+  } catch (const OperationCancelled&) {
+    outcome.cancelled = true;
+  } catch (const std::exception& error) {
+    outcome.error = QString::fromUtf8(error.what());
+  }
+  return outcome;
+}
+
+JobOutcome rerun(SessionResult previous, const SegmentationParams& params) {
+  JobOutcome outcome;
+  outcome.result = previous;
+  try {
+    outcome.result.result = std::make_shared<const PipelineResult>(
+        rerunForRobot(*previous.scan, previous.result->analysis, params, 2));
+  } catch (const std::exception& error) {
+    outcome.error = QString::fromUtf8(error.what());
+  }
+  return outcome;
+}
+
+}  // namespace
+
+struct SegmentationSession::Private {
+  QFutureWatcher<JobOutcome> load_watcher;
+  QFutureWatcher<JobOutcome> robot_watcher;
+  std::shared_ptr<JobControl> control;
+  QTimer robot_timer;
+  QTimer progress_timer;
+  SessionResult current;
+  bool robot_pending = false;
+};
+
+SegmentationSession::SegmentationSession(QObject* parent)
+    : QObject(parent), d_(std::make_unique<Private>()) {
+  qRegisterMetaType<SessionResult>();
+  d_->robot_timer.setSingleShot(true);
+  d_->robot_timer.setInterval(kRobotDebounceMs);
+  d_->progress_timer.setInterval(50);
+
+  connect(&d_->progress_timer, &QTimer::timeout, this, [this] {
+    if (d_->control) emit progress(d_->control->percent, tr("Segmenting"));
+  });
+  connect(&d_->load_watcher, &QFutureWatcher<JobOutcome>::finished, this, [this] {
+    d_->progress_timer.stop();
+    const JobOutcome outcome = d_->load_watcher.result();
+    emit busyChanged(busy());
+    if (outcome.cancelled) {
+      emit failed(tr("Cancelled."));
+    } else if (!outcome.error.isEmpty()) {
+      emit failed(outcome.error);
+    } else {
+      d_->current = outcome.result;
+      emit progress(100, tr("Done"));
+      emit resultReady(d_->current);
+      if (d_->robot_pending) d_->robot_timer.start();
+    }
+  });
+  connect(&d_->robot_timer, &QTimer::timeout, this, [this] {
+    if (!d_->current.result || d_->load_watcher.isRunning()) return;
+    if (d_->robot_watcher.isRunning()) {  // the newest request runs when this one ends
+      d_->robot_pending = true;
+      return;
+    }
+    d_->robot_pending = false;
+    emit busyChanged(true);
+    d_->robot_watcher.setFuture(QtConcurrent::run(rerun, d_->current, params_));
+  });
+  connect(&d_->robot_watcher, &QFutureWatcher<JobOutcome>::finished, this, [this] {
+    const JobOutcome outcome = d_->robot_watcher.result();
+    emit busyChanged(busy());
+    if (!outcome.error.isEmpty()) {
+      emit failed(outcome.error);
+    } else if (outcome.result.scan == d_->current.scan) {  // not a result for a scan since replaced
+      d_->current = outcome.result;
+      emit resultReady(d_->current);
+    }
+    if (d_->robot_pending) d_->robot_timer.start(0);
+  });
+}
+
+SegmentationSession::~SegmentationSession() {
+  cancel();
+  d_->load_watcher.waitForFinished();
+  d_->robot_watcher.waitForFinished();
+}
+
+void SegmentationSession::openScan(const QString& path) {
+  // A job still running is told to stop and forgotten: the watcher follows the new one, so the
+  // GUI thread never waits for it.
+  cancel();
+  d_->control = std::make_shared<JobControl>();
+  d_->current = {};
+  emit busyChanged(true);
+  emit progress(0, tr("Loading"));
+  d_->progress_timer.start();
+  d_->load_watcher.setFuture(QtConcurrent::run(loadAndSegment, path, params_, d_->control));
+}
+
+void SegmentationSession::setRobot(const RobotParams& robot) {
+  params_.robot = robot;
+  d_->robot_pending = true;
+  d_->robot_timer.start();
+}
+
+void SegmentationSession::setParams(const SegmentationParams& params) {
+  params_ = params;
+  d_->robot_pending = true;
+  d_->robot_timer.start();
+}
+
+void SegmentationSession::cancel() {
+  if (d_->control) d_->control->cancel = true;
+}
+
+bool SegmentationSession::busy() const {
+  return d_->load_watcher.isRunning() || d_->robot_watcher.isRunning();
+}
+
+}  // namespace clearway::ui
