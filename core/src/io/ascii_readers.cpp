@@ -62,9 +62,9 @@ std::optional<SensorPose> readUosPose(const std::filesystem::path& scan_file) {
   return uosPoseToClearway(values);
 }
 
-}  // namespace
-
-Scan readXyz(const std::filesystem::path& file, const LoadOptions& options) {
+// Text rows "x y z [intensity]", each turned into Clearway's frame by `convert`.
+Scan readTextPoints(const std::filesystem::path& file, const LoadOptions& options,
+                    Point3f (*convert)(const std::array<double, 4>&)) {
   const std::string text = readAsciiScan(file, options);
   Scan scan;
   bool has_intensity = false;
@@ -75,31 +75,30 @@ Scan readXyz(const std::filesystem::path& file, const LoadOptions& options) {
           throw ScanError(file,
                           "more points than the limit of " + std::to_string(options.max_points));
         if (scan.empty()) has_intensity = columns >= 4;
-        appendPoint(scan, float(v[0]), float(v[1]), float(v[2]));
+        const Point3f p = convert(v);
+        appendPoint(scan, p.x, p.y, p.z);
         if (has_intensity) scan.intensity.push_back(columns >= 4 ? float(v[3]) : 0.0F);
       },
       options.progress);
+  return scan;
+}
+
+}  // namespace
+
+Scan readXyz(const std::filesystem::path& file, const LoadOptions& options) {
+  Scan scan = readTextPoints(file, options, [](const std::array<double, 4>& v) {
+    return Point3f{float(v[0]), float(v[1]), float(v[2])};
+  });
   scan.metadata.format = "xyz ascii";
   scan.metadata.frame = "as stored: metres";
   return scan;
 }
 
 Scan readUos(const std::filesystem::path& file, const LoadOptions& options) {
-  const std::string text = readAsciiScan(file, options);
-  Scan scan;
-  bool has_reflectance = false;
-  parseNumberRows(
-      file, text, 3,
-      [&](const std::array<double, 4>& v, std::size_t columns) {
-        if (scan.size() >= options.max_points)
-          throw ScanError(file,
-                          "more points than the limit of " + std::to_string(options.max_points));
-        if (scan.empty()) has_reflectance = columns >= 4;
-        // (x, y, z)_clearway = (z, -x, y)_uos / 100
-        appendPoint(scan, float(v[2] / 100.0), float(-v[0] / 100.0), float(v[1] / 100.0));
-        if (has_reflectance) scan.intensity.push_back(columns >= 4 ? float(v[3]) : 0.0F);
-      },
-      options.progress);
+  // (x, y, z)_clearway = (z, -x, y)_uos / 100
+  Scan scan = readTextPoints(file, options, [](const std::array<double, 4>& v) {
+    return Point3f{float(v[2] / 100.0), float(-v[0] / 100.0), float(v[1] / 100.0)};
+  });
   scan.sensor_pose = readUosPose(file);
   scan.metadata.format = "3dtk uos";
   scan.metadata.frame = "3DTK uos (cm, left-handed, y up) -> (z, -x, y) / 100: metres, z up";
