@@ -11,6 +11,7 @@
 
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/robot_panel.h"
+#include "clearway/ui/scene_view.h"
 
 namespace {
 
@@ -29,6 +30,7 @@ bool readLength(const QCommandLineParser& parser, const QString& name, double& v
 }  // namespace
 
 int main(int argc, char** argv) {
+  clearway::ui::SceneView::prepareApplication();
   QApplication application(argc, argv);
   QApplication::setApplicationName("Clearway");
   QApplication::setOrganizationName("Clearway");

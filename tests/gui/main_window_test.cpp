@@ -15,6 +15,7 @@
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/robot_panel.h"
+#include "clearway/ui/scene_view.h"
 #include "clearway/ui/segmentation_session.h"
 
 using clearway::ui::MainWindow;
@@ -63,6 +64,9 @@ class MainWindowTest : public QObject {
     QCOMPARE(shown.takeFirst().at(0).toBool(), true);
     QVERIFY(greenPixels(window.mapView()->image()) > 1000);
     QVERIFY(!window.findChild<QLabel*>("trustBanner")->isVisible());
+    // No OpenGL offscreen: the 3D view says so and everything else works.
+    QVERIFY(!window.sceneView()->hasRenderer());
+    QVERIFY(window.findChild<QLabel*>("sceneViewPlaceholder"));
   }
 
   void wideningTheRobotShrinksTheTraversableArea() {

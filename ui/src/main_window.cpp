@@ -10,6 +10,7 @@
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QSplitter>
 #include <QStatusBar>
 #include <QVBoxLayout>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include "clearway/scan_summary.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/robot_panel.h"
+#include "clearway/ui/scene_view.h"
 #include "clearway/ui/segmentation_session.h"
 
 namespace clearway::ui {
@@ -24,6 +26,7 @@ namespace clearway::ui {
 struct MainWindow::Private {
   SegmentationSession* session = nullptr;
   MapView* map = nullptr;
+  SceneView* scene = nullptr;
   RobotPanel* robot = nullptr;
   QLabel* banner = nullptr;
   QLabel* scan_info = nullptr;
@@ -48,9 +51,14 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   d_->banner->setStyleSheet(
       "QLabel { background: #b71c1c; color: white; padding: 8px; font-weight: bold; }");
   d_->banner->hide();
-  d_->map = new MapView(centre);
+  auto* views = new QSplitter(Qt::Horizontal, centre);
+  d_->scene = new SceneView(views);
+  d_->map = new MapView(views);
+  views->addWidget(d_->scene);
+  views->addWidget(d_->map);
+  views->setSizes({600, 600});
   layout->addWidget(d_->banner);
-  layout->addWidget(d_->map, 1);
+  layout->addWidget(views, 1);
   setCentralWidget(centre);
 
   // Right: robot and scan panels.
@@ -127,6 +135,9 @@ void MainWindow::openScan(const QString& path) {
 void MainWindow::setRobot(const RobotParams& robot) {
   d_->robot->setRobot(robot);
 }
+SceneView* MainWindow::sceneView() const {
+  return d_->scene;
+}
 MapView* MainWindow::mapView() const {
   return d_->map;
 }
@@ -140,6 +151,8 @@ SegmentationSession* MainWindow::session() const {
 void MainWindow::showResult(const SessionResult& result) {
   const PipelineResult& pipeline = *result.result;
   d_->map->setResult(result.result);
+  // An untrusted result still shows the cloud, but its scene has no ground and no boxes.
+  d_->scene->setScene(result.scan, result.result);
   // The safety rule: when the result cannot be trusted, say so and show nothing traversable.
   d_->banner->setVisible(!pipeline.trusted());
   d_->banner->setText(tr("Nothing is shown as traversable: %1")

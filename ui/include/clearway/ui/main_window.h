@@ -9,6 +9,7 @@ namespace clearway::ui {
 
 class MapView;
 class RobotPanel;
+class SceneView;
 class SegmentationSession;
 struct SessionResult;
 
@@ -25,6 +26,7 @@ class MainWindow : public QMainWindow {
   void setRobot(const RobotParams& robot);
 
   MapView* mapView() const;
+  SceneView* sceneView() const;
   RobotPanel* robotPanel() const;
   SegmentationSession* session() const;
   // Saves a picture of the whole window; false (with a message on stderr) when it cannot.

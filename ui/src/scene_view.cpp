@@ -1,0 +1,220 @@
+#include "clearway/ui/scene_view.h"
+
+#include <QVTKOpenGLNativeWidget.h>
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkCellArray.h>
+#include <vtkGenericOpenGLRenderWindow.h>
+#include <vtkImageData.h>
+#include <vtkNew.h>
+#include <vtkPointData.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRenderer.h>
+#include <vtkSmartPointer.h>
+#include <vtkSphereSource.h>
+#include <vtkUnsignedCharArray.h>
+#include <vtkWindowToImageFilter.h>
+#include <QGuiApplication>
+#include <QImage>
+#include <QLabel>
+#include <QSurfaceFormat>
+#include <QVBoxLayout>
+
+#include "clearway/scene/scene_geometry.h"
+
+namespace clearway::ui {
+namespace {
+
+// Large clouds are thinned for display so the view stays fluid.
+constexpr std::size_t kMaxDisplayedPoints = 400'000;
+
+// The cloud, thinned; points the result drew as ground triangles are left out.
+vtkSmartPointer<vtkPolyData> pointCloud(const Scan& scan, const std::vector<PointClass>* classes) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colours->SetNumberOfComponents(3);
+  auto vertices = vtkSmartPointer<vtkCellArray>::New();
+  const std::size_t stride = std::max<std::size_t>(1, scan.size() / kMaxDisplayedPoints);
+  float max_intensity = 1.0F;
+  for (float value : scan.intensity)
+    max_intensity = std::max(max_intensity, value);
+  for (std::size_t i = 0; i < scan.size(); i += stride) {
+    if (!scan.isValid(i)) continue;
+    if (classes && i < classes->size() && (*classes)[i] == PointClass::kGround) continue;
+    const Point3f& p = scan.points[i];
+    const vtkIdType id = points->InsertNextPoint(p.x, p.y, p.z);
+    const auto grey = static_cast<unsigned char>(
+        scan.intensity.empty()
+            ? 170
+            : 60 + 170 * std::clamp(scan.intensity[i] / max_intensity, 0.0F, 1.0F));
+    const unsigned char rgb[3] = {grey, grey, grey};
+    colours->InsertNextTypedTuple(rgb);
+    vertices->InsertNextCell(1, &id);
+  }
+  auto cloud = vtkSmartPointer<vtkPolyData>::New();
+  cloud->SetPoints(points);
+  cloud->SetVerts(vertices);
+  cloud->GetPointData()->SetScalars(colours);
+  return cloud;
+}
+
+// A coloured mesh of ground triangles (may be empty) and boxes.
+vtkSmartPointer<vtkPolyData> coloredMesh(const SceneGeometry* ground,
+                                         const std::vector<SceneBox>& boxes) {
+  auto points = vtkSmartPointer<vtkPoints>::New();
+  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
+  colours->SetNumberOfComponents(3);
+  auto triangles = vtkSmartPointer<vtkCellArray>::New();
+  if (ground) {
+    for (std::size_t i = 0; i < ground->vertices.size(); ++i) {
+      const Eigen::Vector3f& v = ground->vertices[i];
+      points->InsertNextPoint(v.x(), v.y(), v.z());
+      colours->InsertNextTypedTuple(labelColour(ground->vertex_labels[i]).data());
+    }
+    for (const auto& t : ground->triangles) {
+      const vtkIdType ids[3] = {vtkIdType(t[0]), vtkIdType(t[1]), vtkIdType(t[2])};
+      triangles->InsertNextCell(3, ids);
+    }
+  }
+  for (const SceneBox& box : boxes) {
+    const auto rgb = labelColour(box.label);
+    vtkIdType corner_ids[8];
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3f sign((corner & 1) ? 1.F : -1.F, (corner & 2) ? 1.F : -1.F,
+                                 (corner & 4) ? 1.F : -1.F);
+      const Eigen::Vector3f p = box.center + box.axes * sign.cwiseProduct(box.half_size);
+      corner_ids[corner] = points->InsertNextPoint(p.x(), p.y(), p.z());
+      colours->InsertNextTypedTuple(rgb.data());
+    }
+    static constexpr int kFaces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
+                                          {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
+                                          {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+    for (const auto& f : kFaces) {
+      const vtkIdType ids[3] = {corner_ids[f[0]], corner_ids[f[1]], corner_ids[f[2]]};
+      triangles->InsertNextCell(3, ids);
+    }
+  }
+  auto mesh = vtkSmartPointer<vtkPolyData>::New();
+  mesh->SetPoints(points);
+  mesh->SetPolys(triangles);
+  mesh->GetPointData()->SetScalars(colours);
+  return mesh;
+}
+
+vtkSmartPointer<vtkActor> actorFor(vtkPolyData* data) {
+  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
+  mapper->SetInputData(data);
+  mapper->SetScalarModeToUsePointData();
+  mapper->SetColorModeToDirectScalars();
+  auto actor = vtkSmartPointer<vtkActor>::New();
+  actor->SetMapper(mapper);
+  return actor;
+}
+
+}  // namespace
+
+struct SceneView::Private {
+  QVTKOpenGLNativeWidget* widget = nullptr;
+  QLabel* placeholder = nullptr;
+  vtkSmartPointer<vtkGenericOpenGLRenderWindow> window;
+  vtkSmartPointer<vtkRenderer> renderer;
+  // The map frame's up and forward in the scanner frame, for a camera that stands upright.
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d forward = Eigen::Vector3d::UnitX();
+  bool has_frame = false;
+};
+
+void SceneView::prepareApplication() {
+  QSurfaceFormat::setDefaultFormat(QVTKOpenGLNativeWidget::defaultFormat());
+}
+
+SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Private>()) {
+  setObjectName("sceneView");
+  auto* layout = new QVBoxLayout(this);
+  layout->setContentsMargins(0, 0, 0, 0);
+  // The offscreen platform has no OpenGL: say so instead of failing.
+  if (QGuiApplication::platformName() == "offscreen" ||
+      QGuiApplication::platformName() == "minimal") {
+    d_->placeholder = new QLabel(tr("3D view unavailable: no OpenGL on this display (%1).")
+                                     .arg(QGuiApplication::platformName()),
+                                 this);
+    d_->placeholder->setObjectName("sceneViewPlaceholder");
+    d_->placeholder->setAlignment(Qt::AlignCenter);
+    d_->placeholder->setWordWrap(true);
+    layout->addWidget(d_->placeholder);
+    return;
+  }
+  d_->widget = new QVTKOpenGLNativeWidget(this);
+  d_->window = vtkSmartPointer<vtkGenericOpenGLRenderWindow>::New();
+  d_->widget->setRenderWindow(d_->window);
+  d_->renderer = vtkSmartPointer<vtkRenderer>::New();
+  d_->renderer->SetBackground(0.12, 0.12, 0.14);
+  d_->window->AddRenderer(d_->renderer);
+  layout->addWidget(d_->widget);
+}
+
+SceneView::~SceneView() = default;
+
+bool SceneView::hasRenderer() const {
+  return d_->widget != nullptr;
+}
+
+void SceneView::setScene(std::shared_ptr<const Scan> scan,
+                         std::shared_ptr<const PipelineResult> result) {
+  if (!hasRenderer()) return;
+  d_->renderer->RemoveAllViewProps();
+  if (scan) {
+    const bool drawn_ground = result && result->trusted();
+    auto cloud = actorFor(pointCloud(*scan, drawn_ground ? &result->point_classes : nullptr));
+    cloud->GetProperty()->SetPointSize(2);
+    d_->renderer->AddActor(cloud);
+  }
+  if (result) {
+    d_->renderer->AddActor(actorFor(coloredMesh(&result->scene, result->scene.obstacles)));
+    // Walls are see-through so the ground behind them stays visible.
+    auto walls = actorFor(coloredMesh(nullptr, result->scene.walls));
+    walls->GetProperty()->SetOpacity(0.35);
+    d_->renderer->AddActor(walls);
+    d_->up = result->analysis.map_from_scanner.linear().row(2).transpose();
+    d_->forward = result->analysis.map_from_scanner.linear().row(0).transpose();
+    d_->has_frame = result->trusted();
+  } else {
+    d_->has_frame = false;
+  }
+  vtkNew<vtkSphereSource> scanner;
+  scanner->SetRadius(0.12);
+  scanner->Update();
+  auto marker = actorFor(scanner->GetOutput());
+  marker->GetProperty()->SetColor(0.2, 0.6, 1.0);
+  marker->GetMapper()->ScalarVisibilityOff();
+  d_->renderer->AddActor(marker);
+  resetCamera();
+}
+
+void SceneView::resetCamera() {
+  if (!hasRenderer()) return;
+  vtkCamera* camera = d_->renderer->GetActiveCamera();
+  camera->SetFocalPoint(0, 0, 0);
+  if (d_->has_frame) {
+    // From behind the scanner, a little above it, upright on the ground: under most ceilings.
+    const Eigen::Vector3d eye = 2.5 * d_->up - 6.0 * d_->forward;
+    camera->SetPosition(eye.x(), eye.y(), eye.z());
+    camera->SetViewUp(d_->up.x(), d_->up.y(), d_->up.z());
+  } else {
+    camera->SetPosition(0, 0, 10);
+    camera->SetViewUp(0, 1, 0);
+  }
+  d_->renderer->ResetCamera();
+  d_->window->Render();
+}
+
+QImage SceneView::renderedImage() {
+  if (!hasRenderer()) return {};
+  d_->window->Render();
+  return d_->widget->grabFramebuffer();
+}
+
+}  // namespace clearway::ui
