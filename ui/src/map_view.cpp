@@ -4,6 +4,7 @@
 #include <QPainter>
 #include <QWheelEvent>
 #include <cmath>
+#include <limits>
 
 #include "clearway/scene/scene_geometry.h"
 
@@ -75,6 +76,14 @@ QString MapView::describe(double map_x, double map_y) const {
   const auto reason = reasonName(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]));
   if (!reason.empty()) text += ": " + QString::fromUtf8(reason.data(), int(reason.size()));
   return text;
+}
+
+double MapView::yawAt(double map_x, double map_y) const {
+  if (!result_) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::Vector2i cell = result_->map.grid.cellOf(map_x, map_y);
+  if (!result_->map.grid.inside(cell.x(), cell.y()))
+    return std::numeric_limits<double>::quiet_NaN();
+  return result_->map.yawDegrees(cell.x(), cell.y());
 }
 
 void MapView::paintEvent(QPaintEvent*) {

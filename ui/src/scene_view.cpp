@@ -17,11 +17,13 @@
 #include <vtkSphereSource.h>
 #include <vtkUnsignedCharArray.h>
 #include <vtkWindowToImageFilter.h>
+#include <Eigen/Geometry>
 #include <QGuiApplication>
 #include <QImage>
 #include <QLabel>
 #include <QSurfaceFormat>
 #include <QVBoxLayout>
+#include <map>
 
 #include "clearway/scene/scene_geometry.h"
 
@@ -31,8 +33,11 @@ namespace {
 // Large clouds are thinned for display so the view stays fluid.
 constexpr std::size_t kMaxDisplayedPoints = 400'000;
 
-// The cloud, thinned; points the result drew as ground triangles are left out.
-vtkSmartPointer<vtkPolyData> pointCloud(const Scan& scan, const std::vector<PointClass>* classes) {
+// The cloud, thinned; points the result drew as ground triangles are left out. Coloured by
+// remission (grey), by height along `up` (blue low .. yellow high) or by point class.
+vtkSmartPointer<vtkPolyData> pointCloud(const Scan& scan, const std::vector<PointClass>* classes,
+                                        SceneView::CloudColour mode, const Eigen::Vector3d& up,
+                                        const std::vector<PointClass>* all_classes) {
   auto points = vtkSmartPointer<vtkPoints>::New();
   auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
   colours->SetNumberOfComponents(3);
@@ -46,11 +51,27 @@ vtkSmartPointer<vtkPolyData> pointCloud(const Scan& scan, const std::vector<Poin
     if (classes && i < classes->size() && (*classes)[i] == PointClass::kGround) continue;
     const Point3f& p = scan.points[i];
     const vtkIdType id = points->InsertNextPoint(p.x, p.y, p.z);
-    const auto grey = static_cast<unsigned char>(
-        scan.intensity.empty()
-            ? 170
-            : 60 + 170 * std::clamp(scan.intensity[i] / max_intensity, 0.0F, 1.0F));
-    const unsigned char rgb[3] = {grey, grey, grey};
+    unsigned char rgb[3];
+    if (mode == SceneView::CloudColour::kHeight) {
+      const double t = std::clamp((Eigen::Vector3d(p.x, p.y, p.z).dot(up) + 2.0) / 5.0, 0.0, 1.0);
+      rgb[0] = static_cast<unsigned char>(40 + 215 * t);
+      rgb[1] = static_cast<unsigned char>(80 + 150 * t);
+      rgb[2] = static_cast<unsigned char>(220 - 180 * t);
+    } else if (mode == SceneView::CloudColour::kClass && all_classes && i < all_classes->size()) {
+      // none, ground, wall, ceiling, obstacle, stairs
+      static constexpr unsigned char kClassColours[6][3] = {{128, 128, 128}, {46, 160, 67},
+                                                            {211, 47, 47},   {120, 144, 156},
+                                                            {245, 140, 20},  {142, 68, 173}};
+      const std::size_t c = std::min<std::size_t>(std::size_t((*all_classes)[i]), 5);
+      for (int k = 0; k < 3; ++k)
+        rgb[k] = kClassColours[c][k];
+    } else {
+      const auto grey = static_cast<unsigned char>(
+          scan.intensity.empty()
+              ? 170
+              : 60 + 170 * std::clamp(scan.intensity[i] / max_intensity, 0.0F, 1.0F));
+      rgb[0] = rgb[1] = rgb[2] = grey;
+    }
     colours->InsertNextTypedTuple(rgb);
     vertices->InsertNextCell(1, &id);
   }
@@ -121,6 +142,15 @@ struct SceneView::Private {
   QLabel* placeholder = nullptr;
   vtkSmartPointer<vtkGenericOpenGLRenderWindow> window;
   vtkSmartPointer<vtkRenderer> renderer;
+  std::shared_ptr<const Scan> scan;
+  std::shared_ptr<const PipelineResult> result;
+  CloudColour cloud_colour = CloudColour::kRemission;
+  std::map<Layer, vtkSmartPointer<vtkActor>> layers;
+  std::map<Layer, bool> visible = {{Layer::kCloud, true},
+                                   {Layer::kGround, true},
+                                   {Layer::kWalls, true},
+                                   {Layer::kObstacles, true}};
+  vtkSmartPointer<vtkActor> robot;
   // The map frame's up and forward in the scanner frame, for a camera that stands upright.
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d forward = Eigen::Vector3d::UnitX();
@@ -165,24 +195,35 @@ bool SceneView::hasRenderer() const {
 void SceneView::setScene(std::shared_ptr<const Scan> scan,
                          std::shared_ptr<const PipelineResult> result) {
   if (!hasRenderer()) return;
+  const bool same_scan = scan && scan == d_->scan;
+  d_->scan = std::move(scan);
+  d_->result = std::move(result);
   d_->renderer->RemoveAllViewProps();
-  if (scan) {
-    const bool drawn_ground = result && result->trusted();
-    auto cloud = actorFor(pointCloud(*scan, drawn_ground ? &result->point_classes : nullptr));
-    cloud->GetProperty()->SetPointSize(2);
-    d_->renderer->AddActor(cloud);
+  d_->layers.clear();
+  d_->robot = nullptr;
+  const PipelineResult* r = d_->result.get();
+  d_->has_frame = r && r->trusted();
+  if (r) {
+    d_->up = r->analysis.map_from_scanner.linear().row(2).transpose();
+    d_->forward = r->analysis.map_from_scanner.linear().row(0).transpose();
   }
-  if (result) {
-    d_->renderer->AddActor(actorFor(coloredMesh(&result->scene, result->scene.obstacles)));
+  if (d_->scan) {
+    auto cloud = actorFor(pointCloud(*d_->scan, d_->has_frame ? &r->point_classes : nullptr,
+                                     d_->cloud_colour, d_->up, r ? &r->point_classes : nullptr));
+    cloud->GetProperty()->SetPointSize(2);
+    d_->layers[Layer::kCloud] = cloud;
+  }
+  if (r) {
+    d_->layers[Layer::kGround] = actorFor(coloredMesh(&r->scene, {}));
+    d_->layers[Layer::kObstacles] = actorFor(coloredMesh(nullptr, r->scene.obstacles));
     // Walls are see-through so the ground behind them stays visible.
-    auto walls = actorFor(coloredMesh(nullptr, result->scene.walls));
+    auto walls = actorFor(coloredMesh(nullptr, r->scene.walls));
     walls->GetProperty()->SetOpacity(0.35);
-    d_->renderer->AddActor(walls);
-    d_->up = result->analysis.map_from_scanner.linear().row(2).transpose();
-    d_->forward = result->analysis.map_from_scanner.linear().row(0).transpose();
-    d_->has_frame = result->trusted();
-  } else {
-    d_->has_frame = false;
+    d_->layers[Layer::kWalls] = walls;
+  }
+  for (const auto& [layer, actor] : d_->layers) {
+    actor->SetVisibility(d_->visible[layer]);
+    d_->renderer->AddActor(actor);
   }
   vtkNew<vtkSphereSource> scanner;
   scanner->SetRadius(0.12);
@@ -191,7 +232,86 @@ void SceneView::setScene(std::shared_ptr<const Scan> scan,
   marker->GetProperty()->SetColor(0.2, 0.6, 1.0);
   marker->GetMapper()->ScalarVisibilityOff();
   d_->renderer->AddActor(marker);
-  resetCamera();
+  // A new robot size keeps the operator's camera; a new scan starts from the default view.
+  if (same_scan) {
+    d_->window->Render();
+  } else {
+    resetCamera();
+  }
+}
+
+void SceneView::setLayerVisible(Layer layer, bool visible) {
+  d_->visible[layer] = visible;
+  if (!hasRenderer()) return;
+  if (const auto it = d_->layers.find(layer); it != d_->layers.end())
+    it->second->SetVisibility(visible);
+  d_->window->Render();
+}
+
+bool SceneView::layerVisible(Layer layer) const {
+  return d_->visible.at(layer);
+}
+
+void SceneView::setCloudColour(CloudColour colour) {
+  d_->cloud_colour = colour;
+  if (hasRenderer() && d_->scan) {
+    const auto scan = d_->scan;
+    d_->scan = nullptr;  // rebuild, keeping the camera below
+    vtkNew<vtkCamera> saved;
+    saved->DeepCopy(d_->renderer->GetActiveCamera());
+    setScene(scan, d_->result);
+    d_->renderer->GetActiveCamera()->DeepCopy(saved);
+    d_->window->Render();
+  }
+}
+
+void SceneView::showRobotAt(double map_x, double map_y, double yaw_deg) {
+  if (!hasRenderer() || !d_->result || !d_->has_frame) return;
+  const PipelineResult& r = *d_->result;
+  const Eigen::Isometry3d scanner_from_map = r.analysis.map_from_scanner.inverse();
+  const double yaw = std::isnan(yaw_deg) ? 0.0 : yaw_deg * M_PI / 180.0;
+  SceneBox box;
+  box.label = std::isnan(yaw_deg) ? CellLabel::kImpassable : CellLabel::kTraversable;
+  const Eigen::Vector3d centre(map_x, map_y, r.robot.height / 2);
+  box.center = (scanner_from_map * centre).cast<float>();
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  box.axes = (scanner_from_map.linear() * turn).cast<float>();
+  box.half_size = Eigen::Vector3f(float(r.robot.length / 2), float(r.robot.width / 2),
+                                  float(r.robot.height / 2));
+  if (d_->robot) d_->renderer->RemoveActor(d_->robot);
+  d_->robot = actorFor(coloredMesh(nullptr, {box}));
+  d_->robot->GetProperty()->SetOpacity(0.6);
+  d_->renderer->AddActor(d_->robot);
+  d_->window->Render();
+}
+
+void SceneView::setCameraView(CameraView view) {
+  if (!hasRenderer()) return;
+  const Eigen::Vector3d up = d_->has_frame ? d_->up : Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d forward = d_->has_frame ? d_->forward : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d side = up.cross(forward);
+  Eigen::Vector3d eye = 2.5 * up - 6.0 * forward, view_up = up;
+  switch (view) {
+    case CameraView::kBehind:
+      eye = 2.5 * up - 6.0 * forward;
+      break;
+    case CameraView::kTop:
+      eye = 10.0 * up;
+      view_up = forward;
+      break;
+    case CameraView::kFront:
+      eye = -10.0 * forward + 0.5 * up;
+      break;
+    case CameraView::kSide:
+      eye = 10.0 * side + 0.5 * up;
+      break;
+  }
+  vtkCamera* camera = d_->renderer->GetActiveCamera();
+  camera->SetFocalPoint(0, 0, 0);
+  camera->SetPosition(eye.x(), eye.y(), eye.z());
+  camera->SetViewUp(view_up.x(), view_up.y(), view_up.z());
+  d_->renderer->ResetCamera();
+  d_->window->Render();
 }
 
 void SceneView::resetCamera() {

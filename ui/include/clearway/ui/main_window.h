@@ -23,6 +23,8 @@ class MainWindow : public QMainWindow {
 
   // Loads and segments a scan in the background; the window stays responsive.
   void openScan(const QString& path);
+  void browseForScan();
+  void editParameters();
   void setRobot(const RobotParams& robot);
 
   MapView* mapView() const;
@@ -37,7 +39,12 @@ class MainWindow : public QMainWindow {
   void resultShown(bool trusted);
   void failureShown(const QString& reason);
 
+ protected:
+  void dragEnterEvent(QDragEnterEvent* event) override;
+  void dropEvent(QDropEvent* event) override;
+
  private:
+  void addViewToolBar();
   void showResult(const SessionResult& result);
   void showFailure(const QString& reason);
 

@@ -23,6 +23,8 @@ class MapView : public QWidget {
   // What the cell under a map position is, in words ("traversable", "impassable: too narrow").
   QString describe(double map_x, double map_y) const;
   const QImage& image() const { return image_; }
+  // The orientation [deg] the robot fits in at a map position; NaN where it fits in none.
+  double yawAt(double map_x, double map_y) const;
 
  signals:
   // The operator hovered (or clicked) a map position.

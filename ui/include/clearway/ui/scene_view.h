@@ -21,8 +21,18 @@ class SceneView : public QWidget {
   explicit SceneView(QWidget* parent = nullptr);
   ~SceneView() override;
 
+  enum class CameraView { kBehind, kTop, kFront, kSide };
+  enum class Layer { kCloud, kGround, kWalls, kObstacles };
+  enum class CloudColour { kRemission, kHeight, kClass };
+
   void setScene(std::shared_ptr<const Scan> scan, std::shared_ptr<const PipelineResult> result);
   void resetCamera();
+  void setCameraView(CameraView view);
+  void setLayerVisible(Layer layer, bool visible);
+  bool layerVisible(Layer layer) const;
+  void setCloudColour(CloudColour colour);
+  // The robot's box standing at a map position (a place the operator picked on the map).
+  void showRobotAt(double map_x, double map_y, double yaw_deg);
   // True when a 3D view could be created (an OpenGL context is available).
   bool hasRenderer() const;
   // The last rendered picture (empty without a renderer).

@@ -1,0 +1,132 @@
+// Scan review (recent list, Previous/Next, drag and drop), exports and the parameters dialog,
+// under QT_QPA_PLATFORM=offscreen with isolated settings.
+
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
+#include <QLabel>
+#include <QListWidget>
+#include <QMimeData>
+#include <QPushButton>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QTemporaryDir>
+#include <QtTest>
+
+#include "clearway/io/scan_io.h"
+#include "clearway/sim/builtin_scenes.h"
+#include "clearway/sim/rosi_simulator.h"
+#include "clearway/ui/export_actions.h"
+#include "clearway/ui/main_window.h"
+#include "clearway/ui/parameters_dialog.h"
+#include "clearway/ui/scan_panel.h"
+#include "clearway/ui/segmentation_session.h"
+
+using namespace clearway::ui;
+
+namespace {
+
+constexpr int kTimeoutMs = 30000;
+
+void simulateInto(const QString& path, const std::string& scene_name) {
+  const clearway::sim::Scene scene = *clearway::sim::builtinScene(scene_name);
+  clearway::sim::SensorModel sensor;
+  sensor.lines = 120;
+  clearway::saveRosiPcd(
+      clearway::sim::simulateRosi(scene, sensor, clearway::sim::defaultPlacement(scene)).scan,
+      path.toStdString());
+}
+
+}  // namespace
+
+class ReviewAndExportTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() {
+    QStandardPaths::setTestModeEnabled(true);
+    QVERIFY(directory_.isValid());
+    simulateInto(directory_.filePath("a_garage.pcd"), "garage");
+    simulateInto(directory_.filePath("b_hallway.pcd"), "hallway");
+  }
+
+  void nextAndPreviousWalkTheFolderAndTheRecentListRemembers() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(directory_.filePath("a_garage.pcd"));
+    QVERIFY(shown.wait(kTimeoutMs));
+    auto* next = window.findChild<QPushButton*>("nextScanButton");
+    auto* previous = window.findChild<QPushButton*>("previousScanButton");
+    QVERIFY(next->isEnabled());
+    QVERIFY(!previous->isEnabled());
+    next->click();
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(previous->isEnabled());
+    QVERIFY(!next->isEnabled());
+    const auto* recent = window.findChild<QListWidget*>("recentScans");
+    QCOMPARE(recent->count(), 2);
+    QVERIFY(recent->item(0)->text().endsWith("b_hallway.pcd"));
+    QCOMPARE(ScanPanel::scansInFolder(directory_.path()).size(), 2);
+  }
+
+  void droppingAScanOpensIt() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    QMimeData data;
+    data.setUrls({QUrl::fromLocalFile(directory_.filePath("a_garage.pcd"))});
+    QDragEnterEvent enter(QPoint(10, 10), Qt::CopyAction, &data, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&window, &enter);
+    QVERIFY(enter.isAccepted());
+    QDropEvent drop(QPointF(10, 10), Qt::CopyAction, &data, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(&window, &drop);
+    QVERIFY(shown.wait(kTimeoutMs));
+  }
+
+  void exportsWriteEveryFileAndSayWhyWhenTheyCannot() {
+    SegmentationSession session;
+    QSignalSpy ready(&session, &SegmentationSession::resultReady);
+    session.openScan(directory_.filePath("a_garage.pcd"));
+    QVERIFY(ready.wait(kTimeoutMs));
+    const auto result = ready.takeFirst().at(0).value<SessionResult>();
+    const std::pair<ExportKind, QString> kinds[] = {{ExportKind::kMapPng, "map.png"},
+                                                    {ExportKind::kRosMap, "ros.pgm"},
+                                                    {ExportKind::kScenePly, "scene.ply"},
+                                                    {ExportKind::kReportJson, "report.json"}};
+    for (const auto& [kind, name] : kinds) {
+      const QString path = directory_.filePath(name);
+      QCOMPARE(exportResult(kind, result, session.params(), path, nullptr), QString());
+      QVERIFY2(QFileInfo(path).size() > 100, qPrintable(name));
+    }
+    QVERIFY(QFileInfo::exists(directory_.filePath("ros.yaml")));
+    // No 3D view offscreen: a reason, not a crash or an empty file.
+    QVERIFY(!exportResult(ExportKind::kScreenshot3d, result, session.params(),
+                          directory_.filePath("3d.png"), nullptr)
+                 .isEmpty());
+    QVERIFY(!exportResult(ExportKind::kMapPng, SessionResult{}, session.params(),
+                          directory_.filePath("x.png"), nullptr)
+                 .isEmpty());
+  }
+
+  void theParametersDialogRefusesValuesThatCannotWork() {
+    ParametersDialog dialog(clearway::SegmentationParams{});
+    QVERIFY(dialog.problems().isEmpty());
+    auto* ok = dialog.findChild<QDialogButtonBox*>()->button(QDialogButtonBox::Ok);
+    QVERIFY(ok->isEnabled());
+    // Cells a quarter of the robot wide cannot resolve it.
+    dialog.findChild<QDoubleSpinBox*>("map_resolution")->setValue(0.5);
+    QVERIFY(!dialog.problems().isEmpty());
+    QVERIFY(!ok->isEnabled());
+    QVERIFY(dialog.findChild<QLabel*>("parameterProblems")->text().contains("map.resolution"));
+    dialog.findChild<QDoubleSpinBox*>("map_resolution")->setValue(0.05);
+    dialog.findChild<QDoubleSpinBox*>("robot_width")->setValue(1.1);
+    QVERIFY(ok->isEnabled());
+    QCOMPARE(dialog.params().robot.width, 1.1);
+  }
+
+ private:
+  QTemporaryDir directory_;
+};
+
+QTEST_MAIN(ReviewAndExportTest)
+#include "review_and_export_test.moc"

@@ -1,0 +1,36 @@
+#pragma once
+
+// Scans to review: the open scan's facts, Open, Previous/Next through the scans of its folder,
+// and the recent scans (kept in QSettings).
+
+#include <QStringList>
+#include <QWidget>
+#include <memory>
+
+namespace clearway::ui {
+
+class ScanPanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit ScanPanel(QWidget* parent = nullptr);
+  ~ScanPanel() override;
+
+  // The scan now shown: remembered in the recent list; Previous/Next follow its folder.
+  void setCurrent(const QString& path, const QString& summary);
+  QStringList recentScans() const;
+  // The scans Clearway can read in a folder, sorted by name.
+  static QStringList scansInFolder(const QString& folder);
+  static bool isScanFile(const QString& path);
+
+ signals:
+  void openRequested(const QString& path);
+  void browseRequested();
+
+ private:
+  void step(int direction);
+  struct Private;
+  std::unique_ptr<Private> d_;
+};
+
+}  // namespace clearway::ui

@@ -1,0 +1,101 @@
+#include "clearway/ui/parameters_dialog.h"
+
+#include <QComboBox>
+#include <QDialogButtonBox>
+#include <QDoubleSpinBox>
+#include <QFormLayout>
+#include <QLabel>
+#include <QPushButton>
+#include <QScrollArea>
+#include <QVBoxLayout>
+#include <map>
+
+namespace clearway::ui {
+
+struct ParametersDialog::Private {
+  SegmentationParams params;
+  std::map<std::string, QDoubleSpinBox*> fields;
+  QComboBox* method = nullptr;
+  QLabel* problems = nullptr;
+  QDialogButtonBox* buttons = nullptr;
+};
+
+ParametersDialog::ParametersDialog(const SegmentationParams& params, QWidget* parent)
+    : QDialog(parent), d_(std::make_unique<Private>()) {
+  setObjectName("parametersDialog");
+  setWindowTitle(tr("Segmentation parameters"));
+  d_->params = params;
+  auto* form_widget = new QWidget(this);
+  auto* form = new QFormLayout(form_widget);
+  d_->method = new QComboBox(form_widget);
+  d_->method->setObjectName("lines_method");
+  d_->method->addItems({tr("split and merge"), tr("Hough (the paper's)")});
+  d_->method->setCurrentIndex(params.lines.method == LineMethod::kHough ? 1 : 0);
+  form->addRow(tr("lines.method"), d_->method);
+  for (const ParameterInfo& info : describeParameters()) {
+    auto* spin = new QDoubleSpinBox(form_widget);
+    spin->setObjectName(QString::fromStdString(info.key).replace('.', '_'));
+    spin->setRange(info.minimum, info.maximum);
+    spin->setDecimals(info.integer ? 0 : 3);
+    spin->setSingleStep(info.integer ? 1.0 : (info.maximum - info.minimum) / 200.0);
+    spin->setValue(parameterValue(params, info.key));
+    spin->setToolTip(tr("%1 (default %2)")
+                         .arg(QString::fromStdString(info.description))
+                         .arg(info.default_value));
+    form->addRow(QString::fromStdString(info.key), spin);
+    d_->fields[info.key] = spin;
+    connect(spin, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
+            &ParametersDialog::refresh);
+  }
+  auto* scroll = new QScrollArea(this);
+  scroll->setWidget(form_widget);
+  scroll->setWidgetResizable(true);
+  d_->problems = new QLabel(this);
+  d_->problems->setObjectName("parameterProblems");
+  d_->problems->setStyleSheet("QLabel { color: #b71c1c; }");
+  d_->problems->setWordWrap(true);
+  d_->buttons = new QDialogButtonBox(
+      QDialogButtonBox::Ok | QDialogButtonBox::Cancel | QDialogButtonBox::RestoreDefaults, this);
+  connect(d_->buttons, &QDialogButtonBox::accepted, this, &QDialog::accept);
+  connect(d_->buttons, &QDialogButtonBox::rejected, this, &QDialog::reject);
+  connect(d_->buttons->button(QDialogButtonBox::RestoreDefaults), &QPushButton::clicked, this,
+          [this] {
+            const SegmentationParams defaults;
+            for (auto& [key, spin] : d_->fields)
+              spin->setValue(parameterValue(defaults, key));
+            d_->method->setCurrentIndex(0);
+          });
+  auto* layout = new QVBoxLayout(this);
+  layout->addWidget(scroll, 1);
+  layout->addWidget(d_->problems);
+  layout->addWidget(d_->buttons);
+  resize(560, 640);
+  refresh();
+}
+
+ParametersDialog::~ParametersDialog() = default;
+
+SegmentationParams ParametersDialog::params() const {
+  SegmentationParams params = d_->params;
+  for (const auto& [key, spin] : d_->fields)
+    setParameterValue(params, key, spin->value());
+  params.lines.method =
+      d_->method->currentIndex() == 1 ? LineMethod::kHough : LineMethod::kSplitAndMerge;
+  return params;
+}
+
+QStringList ParametersDialog::problems() const {
+  QStringList list;
+  for (const std::string& reason : params().validate())
+    list << QString::fromStdString(reason);
+  return list;
+}
+
+void ParametersDialog::refresh() {
+  const QStringList list = problems();
+  d_->problems->setText(list.join("\n"));
+  d_->problems->setVisible(!list.isEmpty());
+  d_->buttons->button(QDialogButtonBox::Ok)->setEnabled(list.isEmpty());
+}
+
+}  // namespace clearway::ui

@@ -1,0 +1,105 @@
+#include "clearway/ui/scan_panel.h"
+
+#include <QDir>
+#include <QFileInfo>
+#include <QHBoxLayout>
+#include <QLabel>
+#include <QListWidget>
+#include <QPushButton>
+#include <QSettings>
+#include <QVBoxLayout>
+
+namespace clearway::ui {
+namespace {
+
+constexpr int kRecentScans = 10;
+const char* const kRecentKey = "scans/recent";
+const QStringList kScanPatterns = {"*.pcd", "*.ply", "*.xyz", "*.txt",
+                                   "*.dat", "*.asc", "*.bin", "*.3d"};
+
+}  // namespace
+
+struct ScanPanel::Private {
+  QLabel* info = nullptr;
+  QListWidget* recent = nullptr;
+  QPushButton* previous = nullptr;
+  QPushButton* next = nullptr;
+  QString current;
+};
+
+ScanPanel::ScanPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Private>()) {
+  setObjectName("scanPanel");
+  auto* layout = new QVBoxLayout(this);
+  auto* buttons = new QHBoxLayout;
+  auto* open = new QPushButton(tr("Open..."), this);
+  open->setObjectName("openScanButton");
+  d_->previous = new QPushButton(tr("< Previous"), this);
+  d_->previous->setObjectName("previousScanButton");
+  d_->next = new QPushButton(tr("Next >"), this);
+  d_->next->setObjectName("nextScanButton");
+  buttons->addWidget(open);
+  buttons->addWidget(d_->previous);
+  buttons->addWidget(d_->next);
+  layout->addLayout(buttons);
+  d_->info = new QLabel(tr("Open a scan, or drop one on the window."), this);
+  d_->info->setObjectName("scanInfo");
+  d_->info->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  d_->info->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  d_->info->setWordWrap(true);
+  layout->addWidget(d_->info, 1);
+  layout->addWidget(new QLabel(tr("Recent scans"), this));
+  d_->recent = new QListWidget(this);
+  d_->recent->setObjectName("recentScans");
+  d_->recent->addItems(QSettings().value(kRecentKey).toStringList());
+  layout->addWidget(d_->recent);
+  d_->previous->setEnabled(false);
+  d_->next->setEnabled(false);
+
+  connect(open, &QPushButton::clicked, this, &ScanPanel::browseRequested);
+  connect(d_->previous, &QPushButton::clicked, this, [this] { step(-1); });
+  connect(d_->next, &QPushButton::clicked, this, [this] { step(+1); });
+  connect(d_->recent, &QListWidget::itemActivated, this,
+          [this](QListWidgetItem* item) { emit openRequested(item->text()); });
+}
+
+ScanPanel::~ScanPanel() = default;
+
+bool ScanPanel::isScanFile(const QString& path) {
+  return QDir::match(kScanPatterns, QFileInfo(path).fileName().toLower());
+}
+
+QStringList ScanPanel::scansInFolder(const QString& folder) {
+  QStringList scans;
+  for (const QFileInfo& info : QDir(folder).entryInfoList(kScanPatterns, QDir::Files, QDir::Name))
+    scans << info.absoluteFilePath();
+  return scans;
+}
+
+void ScanPanel::setCurrent(const QString& path, const QString& summary) {
+  d_->current = QFileInfo(path).absoluteFilePath();
+  d_->info->setText(summary);
+  QStringList recent = QSettings().value(kRecentKey).toStringList();
+  recent.removeAll(d_->current);
+  recent.prepend(d_->current);
+  while (recent.size() > kRecentScans)
+    recent.removeLast();
+  QSettings().setValue(kRecentKey, recent);
+  d_->recent->clear();
+  d_->recent->addItems(recent);
+  const QStringList scans = scansInFolder(QFileInfo(d_->current).absolutePath());
+  const int index = int(scans.indexOf(d_->current));
+  d_->previous->setEnabled(index > 0);
+  d_->next->setEnabled(index >= 0 && index + 1 < scans.size());
+}
+
+QStringList ScanPanel::recentScans() const {
+  return QSettings().value(kRecentKey).toStringList();
+}
+
+void ScanPanel::step(int direction) {
+  const QStringList scans = scansInFolder(QFileInfo(d_->current).absolutePath());
+  const int index = int(scans.indexOf(d_->current)) + direction;
+  if (index >= 0 && index < scans.size()) emit openRequested(scans[index]);
+}
+
+}  // namespace clearway::ui
