@@ -3,6 +3,7 @@
 
 #include <QLabel>
 #include <QMessageBox>
+#include <QSettings>
 #include <QSignalSpy>
 #include <QSlider>
 #include <QStandardPaths>
@@ -51,7 +52,10 @@ class MainWindowTest : public QObject {
 
  private slots:
   void initTestCase() {
+    // Settings of their own, empty: nothing from other tests or earlier runs.
     QStandardPaths::setTestModeEnabled(true);
+    QCoreApplication::setApplicationName("clearway-window-test");
+    QSettings().clear();
     QVERIFY(directory_.isValid());
   }
 

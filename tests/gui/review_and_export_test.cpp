@@ -7,6 +7,7 @@
 #include <QListWidget>
 #include <QMimeData>
 #include <QPushButton>
+#include <QSettings>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QTemporaryDir>
@@ -43,7 +44,10 @@ class ReviewAndExportTest : public QObject {
 
  private slots:
   void initTestCase() {
+    // Settings of their own, empty: nothing from other tests or earlier runs.
     QStandardPaths::setTestModeEnabled(true);
+    QCoreApplication::setApplicationName("clearway-review-test");
+    QSettings().clear();
     QVERIFY(directory_.isValid());
     simulateInto(directory_.filePath("a_garage.pcd"), "garage");
     simulateInto(directory_.filePath("b_hallway.pcd"), "hallway");
