@@ -17,6 +17,7 @@
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/rosi_simulator.h"
 #include "clearway/ui/export_actions.h"
+#include "clearway/ui/hardware_panel.h"
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/parameters_dialog.h"
 #include "clearway/ui/scan_panel.h"
@@ -126,6 +127,47 @@ class ReviewAndExportTest : public QObject {
     dialog.findChild<QDoubleSpinBox*>("robot_width")->setValue(1.1);
     QVERIFY(ok->isEnabled());
     QCOMPARE(dialog.params().robot.width, 1.1);
+  }
+
+  void scanAndStopSavesTheScanThenShowsTheResult() {
+    MainWindow window;
+    window.show();
+    HardwarePanel* panel = window.hardwarePanel();
+    const QString folder = directory_.filePath("acquired");
+    panel->setScanFolder(folder);
+    panel->setSpeedup(400);
+    auto* scan_button = window.findChild<QPushButton*>("scanButton");
+    panel->connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
+    QSignalSpy saved(panel, &HardwarePanel::scanSaved);
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    scan_button->click();
+    QVERIFY(saved.wait(kTimeoutMs));
+    const QString path = saved.takeFirst().at(0).toString();
+    QVERIFY(QFileInfo::exists(path));
+    QVERIFY(path.startsWith(folder));
+    QVERIFY(shown.wait(kTimeoutMs));
+    QCOMPARE(shown.takeFirst().at(0).toBool(), true);
+  }
+
+  void cancellingAScanKeepsWhatArrived() {
+    HardwarePanel panel;
+    panel.setScanFolder(directory_.filePath("partial"));
+    panel.setSpeedup(2);  // ~75 lines/s: slow enough to cancel halfway
+    auto* scan_button = panel.findChild<QPushButton*>("scanButton");
+    panel.connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
+    QSignalSpy saved(&panel, &HardwarePanel::scanSaved);
+    scan_button->click();
+    QTest::qWait(300);
+    panel.cancelScan();
+    QVERIFY(saved.count() == 1 || saved.wait(kTimeoutMs));
+    const auto arguments = saved.takeFirst();
+    QCOMPARE(arguments.at(1).toBool(), false);
+    QVERIFY(arguments.at(0).toString().endsWith("-partial.pcd"));
+    const clearway::Scan partial = clearway::loadScan(arguments.at(0).toString().toStdString());
+    QVERIFY(partial.lines.size() > 0);
+    QVERIFY(partial.lines.size() < 300);
   }
 
  private:

@@ -24,6 +24,7 @@
 
 #include "clearway/scan_summary.h"
 #include "clearway/ui/export_actions.h"
+#include "clearway/ui/hardware_panel.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/parameters_dialog.h"
 #include "clearway/ui/robot_panel.h"
@@ -44,6 +45,7 @@ struct MainWindow::Private {
   RobotPanel* robot = nullptr;
   QLabel* banner = nullptr;
   ScanPanel* scans = nullptr;
+  HardwarePanel* hardware = nullptr;
   SessionResult shown;
   QLabel* timings = nullptr;
   QLabel* hover = nullptr;
@@ -87,6 +89,13 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   scan_dock->setObjectName("scanDock");
   scan_dock->setWidget(d_->scans);
   addDockWidget(Qt::RightDockWidgetArea, scan_dock);
+  d_->hardware = new HardwarePanel(this);
+  auto* hardware_dock = new QDockWidget(tr("Scanner"), this);
+  hardware_dock->setObjectName("hardwareDock");
+  hardware_dock->setWidget(d_->hardware);
+  addDockWidget(Qt::RightDockWidgetArea, hardware_dock);
+  tabifyDockWidget(scan_dock, hardware_dock);
+  scan_dock->raise();
 
   // Bottom: hover readout, stage timings, progress and cancel.
   d_->hover = new QLabel(this);
@@ -134,6 +143,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   });
   connect(d_->robot, &RobotPanel::robotChanged, d_->session, &SegmentationSession::setRobot);
   connect(d_->scans, &ScanPanel::openRequested, this, &MainWindow::openScan);
+  // Scan-and-stop: a saved acquisition is segmented and shown at once.
+  connect(d_->hardware, &HardwarePanel::scanSaved, this,
+          [this](const QString& path) { openScan(path); });
   connect(d_->scans, &ScanPanel::browseRequested, this, &MainWindow::browseForScan);
   setAcceptDrops(true);
   connect(d_->cancel, &QPushButton::clicked, d_->session, &SegmentationSession::cancel);
@@ -241,6 +253,9 @@ void MainWindow::openScan(const QString& path) {
 
 void MainWindow::setRobot(const RobotParams& robot) {
   d_->robot->setRobot(robot);
+}
+HardwarePanel* MainWindow::hardwarePanel() const {
+  return d_->hardware;
 }
 SceneView* MainWindow::sceneView() const {
   return d_->scene;

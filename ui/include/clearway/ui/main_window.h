@@ -7,6 +7,7 @@
 
 namespace clearway::ui {
 
+class HardwarePanel;
 class MapView;
 class RobotPanel;
 class SceneView;
@@ -29,6 +30,7 @@ class MainWindow : public QMainWindow {
 
   MapView* mapView() const;
   SceneView* sceneView() const;
+  HardwarePanel* hardwarePanel() const;
   RobotPanel* robotPanel() const;
   SegmentationSession* session() const;
   // Saves a picture of the whole window; false (with a message on stderr) when it cannot.

@@ -1,0 +1,40 @@
+#pragma once
+
+// The scanner: choose the device (the simulated RoSi now; the serial RoSi with the hardware
+// issue), Connect, Scan (scan-and-stop), Cancel, live progress and the device's state in words.
+// Every acquisition is saved (atomically) before anything else happens, then handed on.
+
+#include <QWidget>
+#include <memory>
+
+namespace clearway::ui {
+
+class HardwarePanel : public QWidget {
+  Q_OBJECT
+
+ public:
+  explicit HardwarePanel(QWidget* parent = nullptr);
+  ~HardwarePanel() override;
+
+  // Where acquisitions are saved (default: the application data folder's "scans").
+  void setScanFolder(const QString& folder);
+  QString scanFolder() const;
+  // Faster than real time, for demonstrations and tests.
+  void setSpeedup(double speedup);
+
+ public slots:
+  void connectScanner();
+  void startScan();
+  void cancelScan();
+
+ signals:
+  // A scan was acquired and saved; `complete` is false for the part kept after a cancel or loss.
+  void scanSaved(const QString& path, bool complete);
+  void statusChanged(const QString& status);
+
+ private:
+  struct Private;
+  std::unique_ptr<Private> d_;
+};
+
+}  // namespace clearway::ui
