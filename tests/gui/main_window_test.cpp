@@ -1,6 +1,7 @@
 // The operator console under QT_QPA_PLATFORM=offscreen: open, segment, change the robot, bad files,
 // cancel, close while working. Settings and paths are isolated (QStandardPaths test mode).
 
+#include <QDoubleSpinBox>
 #include <QLabel>
 #include <QMessageBox>
 #include <QSettings>
@@ -100,6 +101,22 @@ class MainWindowTest : public QObject {
     QVERIFY(banner->isVisible());
     QVERIFY(banner->text().contains("no ground"));
     QCOMPARE(greenPixels(window.mapView()->image()), 0);
+  }
+
+  void aLowerMaxSlopeDropsTheRampFromTheGround() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/hallway.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    const int with_ramp = greenPixels(window.mapView()->image());
+    auto* slope = window.findChild<QDoubleSpinBox*>("ground_max_slope_deg_spin");
+    QVERIFY(slope);
+    slope->setValue(5);  // the ramp climbs 12 degrees
+    QVERIFY(shown.wait(kTimeoutMs));
+    const int without_ramp = greenPixels(window.mapView()->image());
+    QVERIFY2(without_ramp < with_ramp,
+             qPrintable(QString("%1 vs %2").arg(without_ramp).arg(with_ramp)));
   }
 
   void aCorruptFileGivesAnErrorDialogNotACrash() {

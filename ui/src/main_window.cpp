@@ -142,6 +142,12 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
     d_->scene->showRobotAt(x, y, yaw);
   });
   connect(d_->robot, &RobotPanel::robotChanged, d_->session, &SegmentationSession::setRobot);
+  connect(d_->robot, &RobotPanel::maxSlopeChanged, this, [this](double degrees) {
+    SegmentationParams params = d_->session->params();
+    params.ground.max_slope_deg = degrees;
+    d_->session->setParams(params);
+    if (!d_->shown.scan_path.isEmpty()) openScan(d_->shown.scan_path);
+  });
   connect(d_->scans, &ScanPanel::openRequested, this, &MainWindow::openScan);
   // Scan-and-stop: a saved acquisition is segmented and shown at once.
   connect(d_->hardware, &HardwarePanel::scanSaved, this,
@@ -175,6 +181,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
     }
   }
   params.robot = d_->robot->robot();
+  d_->robot->setMaxSlopeDeg(params.ground.max_slope_deg);
   d_->session->setParams(params);
   resize(1200, 800);
 }
@@ -188,6 +195,7 @@ void MainWindow::editParameters() {
     const SegmentationParams params = dialog->params();
     QSettings().setValue(kParamsKey, QString::fromStdString(toJson(params).dump()));
     d_->robot->setRobot(params.robot);
+    d_->robot->setMaxSlopeDeg(params.ground.max_slope_deg);
     d_->session->setParams(params);
     // Stages 1-4 depend on the parameters too: segment the scan again.
     if (!d_->shown.scan_path.isEmpty()) openScan(d_->shown.scan_path);

@@ -30,6 +30,7 @@ struct RobotPanel::Private {
   };
   std::vector<Dimension> dimensions;
   QComboBox* presets = nullptr;
+  QDoubleSpinBox* max_slope = nullptr;
   std::string name = "custom";
 };
 
@@ -79,12 +80,34 @@ RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<P
               emit robotChanged(robot());
             });
   }
+  const ParameterInfo& slope = infoFor(infos, "ground.max_slope_deg");
+  d_->max_slope = new QDoubleSpinBox(this);
+  d_->max_slope->setObjectName("ground_max_slope_deg_spin");
+  d_->max_slope->setRange(slope.minimum, slope.maximum);
+  d_->max_slope->setDecimals(0);
+  d_->max_slope->setValue(slope.default_value);
+  d_->max_slope->setToolTip(QString::fromStdString(slope.description));
+  // Only when editing ends: each change re-segments the scan.
+  d_->max_slope->setKeyboardTracking(false);
+  form->addRow(tr("Max slope [deg]"), d_->max_slope);
+  connect(d_->max_slope, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
+          &RobotPanel::maxSlopeChanged);
+
   connect(d_->presets, qOverload<int>(&QComboBox::activated), this,
           [this](int index) { setRobot(robotPresets()[std::size_t(index)]); });
   setRobot(robotPresets().front());
 }
 
 RobotPanel::~RobotPanel() = default;
+
+double RobotPanel::maxSlopeDeg() const {
+  return d_->max_slope->value();
+}
+
+void RobotPanel::setMaxSlopeDeg(double degrees) {
+  const QSignalBlocker block(d_->max_slope);
+  d_->max_slope->setValue(degrees);
+}
 
 RobotParams RobotPanel::robot() const {
   SegmentationParams params;

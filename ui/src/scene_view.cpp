@@ -6,12 +6,14 @@
 #include <vtkCellArray.h>
 #include <vtkGenericOpenGLRenderWindow.h>
 #include <vtkImageData.h>
+#include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
 #include <vtkProperty.h>
+#include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
 #include <vtkSphereSource.h>
@@ -183,6 +185,9 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Pri
   d_->renderer = vtkSmartPointer<vtkRenderer>::New();
   d_->renderer->SetBackground(0.12, 0.12, 0.14);
   d_->window->AddRenderer(d_->renderer);
+  // Orbit with the left button, pan with the middle, zoom with the wheel.
+  vtkNew<vtkInteractorStyleTrackballCamera> style;
+  d_->window->GetInteractor()->SetInteractorStyle(style);
   layout->addWidget(d_->widget);
 }
 

@@ -18,10 +18,14 @@ class RobotPanel : public QWidget {
   ~RobotPanel() override;
 
   RobotParams robot() const;
+  double maxSlopeDeg() const;
+  void setMaxSlopeDeg(double degrees);
   void setRobot(const RobotParams& robot);  // emits robotChanged once if anything changed
 
  signals:
   void robotChanged(const clearway::RobotParams& robot);
+  // The steepest drivable slope changed: ground planes must be chosen again (stages 1-4).
+  void maxSlopeChanged(double degrees);
 
  private:
   struct Private;
