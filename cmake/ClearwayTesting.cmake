@@ -13,3 +13,18 @@ function(clearway_add_gtest name)
   add_test(NAME ${name} COMMAND ${name})
   set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
+
+# clearway_add_qt_test(NAME SOURCES a.cpp LABELS label... [PLATFORM offscreen|xcb] [LAUNCHER cmd...])
+# One Qt Test executable (AUTOMOC, linked to clearway::ui) registered as one ctest test, run on the
+# given Qt platform, optionally through a launcher (xvfb-run for rendering tests).
+function(clearway_add_qt_test name)
+  cmake_parse_arguments(ARG "" "PLATFORM" "SOURCES;LABELS;LAUNCHER" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  set_target_properties(${name} PROPERTIES AUTOMOC ON)
+  target_link_libraries(${name} PRIVATE clearway::ui Qt5::Test)
+  target_compile_definitions(${name} PRIVATE CLEARWAY_SAMPLES_DIR="${CLEARWAY_SAMPLES_DIR}")
+  add_dependencies(${name} clearway_samples)
+  clearway_target_defaults(${name})
+  add_test(NAME ${name} COMMAND ${ARG_LAUNCHER} $<TARGET_FILE:${name}>)
+  set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}" ENVIRONMENT "QT_QPA_PLATFORM=${ARG_PLATFORM}")
+endfunction()
