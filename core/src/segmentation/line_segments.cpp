@@ -32,7 +32,9 @@ bool makeSegment(const Scan& scan, std::uint32_t line, const std::vector<std::ui
     range_sum += rangeOf(p);
   }
   const Eigen::Vector3d mean = moments.mean();
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(moments.covariance());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+  solver.computeDirect(
+      moments.covariance());  // closed form for 3 x 3: much faster than the iterative solver
   Eigen::Vector3d direction = solver.eigenvectors().col(2);
   const Eigen::Vector3d first = at(scan, indices.front()), last = at(scan, indices.back());
   if (direction.dot(last - first) < 0) direction = -direction;
@@ -75,25 +77,47 @@ std::vector<std::vector<std::uint32_t>> validRuns(const Scan& scan, const ScanLi
   return runs;
 }
 
-// Largest distance of run[begin..end] from the chord run[begin] -> run[end]; returns its index.
-std::size_t farthestFromChord(const Scan& scan, const std::vector<std::uint32_t>& run,
-                              std::size_t begin, std::size_t end, double& relative_excess,
-                              const LineParams& params) {
-  const Eigen::Vector3d a = at(scan, run[begin]), b = at(scan, run[end]);
-  const Eigen::Vector3d chord = b - a;
-  const double chord_length = chord.norm();
+// A run's points, converted once, with each point's squared split threshold (it grows with range).
+struct RunGeometry {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> threshold_squared;
+};
+
+RunGeometry runGeometry(const Scan& scan, const std::vector<std::uint32_t>& run,
+                        const LineParams& params) {
+  RunGeometry geometry;
+  geometry.points.reserve(run.size());
+  geometry.threshold_squared.reserve(run.size());
+  for (std::uint32_t i : run) {
+    const Eigen::Vector3d p = at(scan, i);
+    const double threshold = splitThreshold(params, p);
+    geometry.points.push_back(p);
+    geometry.threshold_squared.push_back(threshold * threshold);
+  }
+  return geometry;
+}
+
+// The point of run[begin..end] farthest from the chord run[begin] -> run[end], relative to its
+// threshold; `relative_excess` > 1 means the run must be split there. No square roots in the loop.
+std::size_t farthestFromChord(const RunGeometry& run, std::size_t begin, std::size_t end,
+                              double& relative_excess) {
+  const Eigen::Vector3d& a = run.points[begin];
+  const Eigen::Vector3d chord = run.points[end] - a;
+  const double chord_squared = chord.squaredNorm();
   std::size_t farthest = begin;
-  relative_excess = 0.0;
+  double worst = 0.0;
   for (std::size_t k = begin + 1; k < end; ++k) {
-    const Eigen::Vector3d p = at(scan, run[k]);
-    const double distance =
-        chord_length > 1e-9 ? chord.cross(p - a).norm() / chord_length : (p - a).norm();
-    const double excess = distance / splitThreshold(params, p);
-    if (excess > relative_excess) {
-      relative_excess = excess;
+    const Eigen::Vector3d offset = run.points[k] - a;
+    const double distance_squared = chord_squared > 1e-18
+                                        ? chord.cross(offset).squaredNorm() / chord_squared
+                                        : offset.squaredNorm();
+    const double ratio = distance_squared / run.threshold_squared[k];
+    if (ratio > worst) {
+      worst = ratio;
       farthest = k;
     }
   }
+  relative_excess = std::sqrt(worst);
   return farthest;
 }
 
@@ -101,6 +125,7 @@ void splitAndMergeLine(const Scan& scan, std::uint32_t line_index, const LinePar
                        std::vector<LineSegment>& out) {
   for (const auto& run : validRuns(scan, scan.lines[line_index], params)) {
     if (int(run.size()) < params.min_points) continue;
+    const RunGeometry geometry = runGeometry(scan, run, params);
     // Split: a stack of [begin, end] ranges of the run.
     std::vector<std::pair<std::size_t, std::size_t>> pieces;
     std::vector<std::pair<std::size_t, std::size_t>> stack = {{0, run.size() - 1}};
@@ -109,7 +134,7 @@ void splitAndMergeLine(const Scan& scan, std::uint32_t line_index, const LinePar
       stack.pop_back();
       double excess = 0.0;
       const std::size_t split =
-          end > begin + 1 ? farthestFromChord(scan, run, begin, end, excess, params) : begin;
+          end > begin + 1 ? farthestFromChord(geometry, begin, end, excess) : begin;
       if (excess > 1.0) {
         stack.push_back({split, end});
         stack.push_back({begin, split});
@@ -123,7 +148,7 @@ void splitAndMergeLine(const Scan& scan, std::uint32_t line_index, const LinePar
     for (const auto& piece : pieces) {
       if (!merged.empty() && merged.back().second == piece.first) {
         double excess = 0.0;
-        farthestFromChord(scan, run, merged.back().first, piece.second, excess, params);
+        farthestFromChord(geometry, merged.back().first, piece.second, excess);
         if (excess <= 1.0) {
           merged.back().second = piece.second;
           continue;
@@ -167,7 +192,8 @@ void houghLine(const Scan& scan, std::uint32_t line_index, const LineParams& par
     u_axis = {std::cos(line.beta), std::sin(line.beta), 0.0};
     v_axis = Eigen::Vector3d::UnitZ();
   } else {
-    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
+    solver.computeDirect(scatter);  // closed form for 3 x 3: much faster than the iterative solver
     u_axis = solver.eigenvectors().col(2);
     v_axis = solver.eigenvectors().col(1);
   }

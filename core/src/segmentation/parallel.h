@@ -1,15 +1,21 @@
 #pragma once
 
 // A minimal parallel loop for the engine's embarrassingly parallel stages (per scan line, per
-// orientation). Chunks are contiguous so results can be gathered in order.
+// plane, per half of the map). Chunks are contiguous so results can be gathered in order. The
+// extra threads live in a small pool that is started once: a pipeline run makes ten or so parallel
+// calls, and starting threads for each cost about a millisecond.
 
 #include <algorithm>
 #include <cstddef>
 #include <exception>
-#include <thread>
+#include <functional>
 #include <vector>
 
 namespace clearway::detail {
+
+// Runs every task, some on the pool's threads and the first on the caller's, and returns when all
+// have finished. Safe from several threads at once; a call made from a pool thread runs inline.
+void runTasks(std::vector<std::function<void()>>& tasks);
 
 // Calls work(begin, end, chunk) for `chunks` contiguous parts of [0, count), in parallel.
 template <typename Work>
@@ -20,11 +26,11 @@ void parallelChunks(std::size_t count, int threads, Work&& work) {
     work(std::size_t{0}, count, std::size_t{0});
     return;
   }
-  std::vector<std::thread> workers;
   std::vector<std::exception_ptr> errors(chunks);
+  std::vector<std::function<void()>> tasks;
   for (std::size_t c = 0; c < chunks; ++c) {
     const std::size_t begin = count * c / chunks, end = count * (c + 1) / chunks;
-    workers.emplace_back([&, begin, end, c] {
+    tasks.emplace_back([&work, &errors, begin, end, c] {
       try {
         work(begin, end, c);
       } catch (...) {
@@ -32,8 +38,7 @@ void parallelChunks(std::size_t count, int threads, Work&& work) {
       }
     });
   }
-  for (std::thread& worker : workers)
-    worker.join();
+  runTasks(tasks);
   for (const std::exception_ptr& error : errors)
     if (error) std::rethrow_exception(error);
 }

@@ -1,0 +1,101 @@
+#include "parallel.h"
+
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <thread>
+
+namespace clearway::detail {
+namespace {
+
+// Workers that wait for tasks; one call's tasks share a counter the caller waits on.
+class Pool {
+ public:
+  Pool() {
+    const unsigned cores = std::max(2U, std::thread::hardware_concurrency());
+    for (unsigned i = 1; i < cores; ++i)
+      workers_.emplace_back([this] { serve(); });
+  }
+  ~Pool() {
+    {
+      std::lock_guard lock(mutex_);
+      stopping_ = true;
+    }
+    wake_.notify_all();
+    for (std::thread& worker : workers_)
+      worker.join();
+  }
+
+  void run(std::vector<std::function<void()>>& tasks) {
+    struct Batch {
+      std::size_t remaining = 0;
+      std::condition_variable done;
+    } batch;
+    {
+      std::lock_guard lock(mutex_);
+      batch.remaining = tasks.size() - 1;
+      for (std::size_t t = 1; t < tasks.size(); ++t)
+        queue_.push_back([&batch, &task = tasks[t], this] {
+          task();
+          std::lock_guard finished(mutex_);
+          if (--batch.remaining == 0) batch.done.notify_all();
+        });
+    }
+    wake_.notify_all();
+    tasks.front()();
+    // Help with queued work while waiting, so a busy pool never stalls a caller.
+    std::unique_lock lock(mutex_);
+    while (batch.remaining > 0) {
+      if (!queue_.empty()) {
+        auto next = std::move(queue_.front());
+        queue_.pop_front();
+        lock.unlock();
+        next();
+        lock.lock();
+      } else {
+        batch.done.wait(lock);
+      }
+    }
+  }
+
+  static bool onWorker() { return on_worker_; }
+
+ private:
+  void serve() {
+    on_worker_ = true;
+    std::unique_lock lock(mutex_);
+    while (true) {
+      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (stopping_ && queue_.empty()) return;
+      auto task = std::move(queue_.front());
+      queue_.pop_front();
+      lock.unlock();
+      task();
+      lock.lock();
+    }
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::function<void()>> queue_;
+  std::vector<std::thread> workers_;
+  bool stopping_ = false;
+  static thread_local bool on_worker_;
+};
+
+thread_local bool Pool::on_worker_ = false;
+
+}  // namespace
+
+void runTasks(std::vector<std::function<void()>>& tasks) {
+  if (tasks.empty()) return;
+  if (tasks.size() == 1 || Pool::onWorker()) {
+    for (auto& task : tasks)
+      task();
+    return;
+  }
+  static Pool pool;
+  pool.run(tasks);
+}
+
+}  // namespace clearway::detail
