@@ -1,0 +1,71 @@
+#pragma once
+
+// Clearway's turntable protocol (docs/TURNTABLE.md): the RoSi's platform controller is not
+// documented publicly, so any controller that speaks these ASCII lines can be plugged in.
+//
+//   host -> table: HOME | SPEED <deg/s> | START | STOP | STATUS            (one per line, '\n')
+//   table -> host: OK <command> | ERR <reason> | ANGLE <time_us> <millideg>
+//                  | STATUS <idle|homing|turning> <millideg> <deg/s>
+//
+// ANGLE samples stream while turning; the angle grows from 0 and wraps at 360000 millidegrees.
+// Every scan line is tagged with the angle interpolated at the line's timestamp (AngleTrack).
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+namespace clearway::hardware::turntable {
+
+std::string homeCommand();
+std::string speedCommand(double degrees_per_second);
+std::string startCommand();
+std::string stopCommand();
+std::string statusCommand();
+
+struct Ok {
+  std::string command;
+};
+struct Error {
+  std::string reason;
+};
+struct AngleSample {
+  std::int64_t time_us = 0;
+  double angle_deg = 0.0;  // [0, 360)
+};
+struct Status {
+  std::string state;
+  double angle_deg = 0.0;
+  double speed_deg_s = 0.0;
+};
+using Reply = std::variant<Ok, Error, AngleSample, Status>;
+
+// Parses one line (without its '\n'); nullopt for a line that is not a reply (noise, a cut line).
+std::optional<Reply> parseReply(const std::string& line);
+
+// Cuts a byte stream into lines; partial lines wait for the rest. Overlong lines are dropped.
+class LineSplitter {
+ public:
+  std::vector<std::string> feed(const std::string& bytes);
+
+ private:
+  std::string pending_;
+};
+
+// Angle samples over time, unwrapped across full turns; the angle at any time between two samples
+// is interpolated linearly.
+class AngleTrack {
+ public:
+  // Samples must come in time order; older or equal times are ignored.
+  void add(const AngleSample& sample);
+  // Unwrapped angle [deg] at `time_us`, or nullopt outside the sampled span.
+  std::optional<double> angleAt(std::int64_t time_us) const;
+  std::size_t size() const { return times_.size(); }
+
+ private:
+  std::vector<std::int64_t> times_;
+  std::vector<double> unwrapped_;
+};
+
+}  // namespace clearway::hardware::turntable

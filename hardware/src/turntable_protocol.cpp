@@ -1,0 +1,107 @@
+#include "clearway/hardware/turntable_protocol.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace clearway::hardware::turntable {
+namespace {
+
+constexpr std::size_t kMaxLine = 256;
+constexpr double kMillidegrees = 1000.0;
+
+}  // namespace
+
+std::string homeCommand() {
+  return "HOME\n";
+}
+std::string startCommand() {
+  return "START\n";
+}
+std::string stopCommand() {
+  return "STOP\n";
+}
+std::string statusCommand() {
+  return "STATUS\n";
+}
+
+std::string speedCommand(double degrees_per_second) {
+  std::ostringstream line;
+  line.precision(6);
+  line << "SPEED " << degrees_per_second << "\n";
+  return line.str();
+}
+
+std::optional<Reply> parseReply(const std::string& line) {
+  std::istringstream words(line);
+  std::string keyword;
+  if (!(words >> keyword)) return std::nullopt;
+  if (keyword == "OK") {
+    Ok ok;
+    words >> ok.command;
+    return ok;
+  }
+  if (keyword == "ERR") {
+    Error error;
+    std::getline(words >> std::ws, error.reason);
+    return error;
+  }
+  if (keyword == "ANGLE") {
+    AngleSample sample;
+    std::int64_t millidegrees = 0;
+    if (!(words >> sample.time_us >> millidegrees) || millidegrees < 0 || millidegrees >= 360000)
+      return std::nullopt;
+    sample.angle_deg = double(millidegrees) / kMillidegrees;
+    return sample;
+  }
+  if (keyword == "STATUS") {
+    Status status;
+    std::int64_t millidegrees = 0;
+    if (!(words >> status.state >> millidegrees >> status.speed_deg_s)) return std::nullopt;
+    status.angle_deg = double(millidegrees) / kMillidegrees;
+    return status;
+  }
+  return std::nullopt;
+}
+
+std::vector<std::string> LineSplitter::feed(const std::string& bytes) {
+  std::vector<std::string> lines;
+  for (char c : bytes) {
+    if (c == '\n') {
+      if (!pending_.empty() && pending_.back() == '\r') pending_.pop_back();
+      lines.push_back(pending_);
+      pending_.clear();
+    } else if (pending_.size() < kMaxLine) {
+      pending_.push_back(c);
+    } else {
+      pending_.clear();  // an overlong line is noise: drop it and wait for the next one
+    }
+  }
+  return lines;
+}
+
+void AngleTrack::add(const AngleSample& sample) {
+  if (!times_.empty() && sample.time_us <= times_.back()) return;
+  double unwrapped = sample.angle_deg;
+  if (!unwrapped_.empty()) {
+    // The table turns one way; a step back of more than half a turn is a wrap past 360 deg.
+    const double previous = unwrapped_.back();
+    const double turns = std::floor(previous / 360.0);
+    unwrapped = turns * 360.0 + sample.angle_deg;
+    while (unwrapped < previous - 180.0)
+      unwrapped += 360.0;
+  }
+  times_.push_back(sample.time_us);
+  unwrapped_.push_back(unwrapped);
+}
+
+std::optional<double> AngleTrack::angleAt(std::int64_t time_us) const {
+  if (times_.empty() || time_us < times_.front() || time_us > times_.back()) return std::nullopt;
+  const auto after = std::lower_bound(times_.begin(), times_.end(), time_us);
+  const std::size_t k = std::size_t(after - times_.begin());
+  if (times_[k] == time_us) return unwrapped_[k];
+  const double t = double(time_us - times_[k - 1]) / double(times_[k] - times_[k - 1]);
+  return unwrapped_[k - 1] + t * (unwrapped_[k] - unwrapped_[k - 1]);
+}
+
+}  // namespace clearway::hardware::turntable

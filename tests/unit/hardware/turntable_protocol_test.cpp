@@ -1,0 +1,63 @@
+#include <gtest/gtest.h>
+
+#include "clearway/hardware/turntable_protocol.h"
+
+namespace clearway::hardware::turntable {
+namespace {
+
+TEST(TurntableProtocol, CommandsAreOneLineEach) {
+  EXPECT_EQ(homeCommand(), "HOME\n");
+  EXPECT_EQ(speedCommand(45.0), "SPEED 45\n");
+  EXPECT_EQ(startCommand(), "START\n");
+  EXPECT_EQ(stopCommand(), "STOP\n");
+  EXPECT_EQ(statusCommand(), "STATUS\n");
+}
+
+TEST(TurntableProtocol, RepliesParseAndNoiseDoesNot) {
+  const auto angle = parseReply("ANGLE 1500000 359500");
+  ASSERT_TRUE(angle && std::holds_alternative<AngleSample>(*angle));
+  EXPECT_EQ(std::get<AngleSample>(*angle).time_us, 1500000);
+  EXPECT_DOUBLE_EQ(std::get<AngleSample>(*angle).angle_deg, 359.5);
+  const auto status = parseReply("STATUS turning 90000 45");
+  ASSERT_TRUE(status && std::holds_alternative<Status>(*status));
+  EXPECT_EQ(std::get<Status>(*status).state, "turning");
+  EXPECT_DOUBLE_EQ(std::get<Status>(*status).speed_deg_s, 45.0);
+  const auto error = parseReply("ERR motor stalled");
+  ASSERT_TRUE(error && std::holds_alternative<Error>(*error));
+  EXPECT_EQ(std::get<Error>(*error).reason, "motor stalled");
+  EXPECT_TRUE(std::holds_alternative<Ok>(*parseReply("OK START")));
+  EXPECT_FALSE(parseReply(""));
+  EXPECT_FALSE(parseReply("ANGLE 12"));
+  EXPECT_FALSE(parseReply("ANGLE 12 400000"));  // beyond a full turn
+  EXPECT_FALSE(parseReply("HELLO"));
+}
+
+TEST(TurntableProtocol, LinesSurviveFragmentationAndOverlongNoise) {
+  LineSplitter splitter;
+  EXPECT_TRUE(splitter.feed("ANGLE 10 ").empty());
+  const auto lines = splitter.feed("5000\r\nOK HOME\n");
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[0], "ANGLE 10 5000");
+  EXPECT_EQ(lines[1], "OK HOME");
+  splitter.feed(std::string(1000, 'x'));
+  const auto after_noise = splitter.feed("\nOK STOP\n");
+  EXPECT_EQ(after_noise.back(), "OK STOP");
+}
+
+TEST(TurntableProtocol, AnglesAreInterpolatedAtLineTimesAcrossTheWrap) {
+  AngleTrack track;
+  track.add({0, 350.0});
+  track.add({100'000, 355.0});
+  track.add({200'000, 0.0});  // wrapped past 360
+  track.add({300'000, 5.0});
+  track.add({300'000, 7.0});  // same time again: ignored
+  ASSERT_EQ(track.size(), 4u);
+  EXPECT_NEAR(*track.angleAt(50'000), 352.5, 1e-9);
+  EXPECT_NEAR(*track.angleAt(150'000), 357.5, 1e-9);
+  EXPECT_NEAR(*track.angleAt(250'000), 362.5, 1e-9);
+  EXPECT_FALSE(track.angleAt(-1));
+  EXPECT_FALSE(track.angleAt(300'001));
+}
+
+}  // namespace
+}  // namespace clearway::hardware::turntable
