@@ -45,6 +45,26 @@ ScannerPlacement defaultPlacement(const Scene& scene) {
   return placement;
 }
 
+std::vector<double> simulateLineRanges(const Scene& scene, const RayCaster& caster,
+                                       const SensorModel& sensor, const ScannerPlacement& placement,
+                                       double beta, std::uint32_t seed) {
+  const Eigen::Isometry3d world_from_scanner = placement.worldFromScanner();
+  std::mt19937 random(seed);
+  std::normal_distribution<double> noise(0.0, sensor.range_noise_sigma);
+  std::vector<double> ranges(std::size_t(sensor.points_per_line),
+                             std::numeric_limits<double>::quiet_NaN());
+  for (int k = 0; k < sensor.points_per_line; ++k) {
+    const double alpha = k * sensor.alpha_step_deg * kDeg;
+    const Eigen::Vector3d local(std::cos(beta) * std::cos(alpha), std::sin(beta) * std::cos(alpha),
+                                std::sin(alpha));
+    const auto hit = caster.cast(world_from_scanner.translation(),
+                                 world_from_scanner.linear() * local, sensor.max_range);
+    if (!hit || scene.primitives[std::size_t(hit->primitive)].transparent) continue;
+    ranges[std::size_t(k)] = hit->distance + noise(random);
+  }
+  return ranges;
+}
+
 SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
                            const ScannerPlacement& placement, const ProgressCallback& progress) {
   const RayCaster caster(scene);

@@ -77,4 +77,13 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
                            const ScannerPlacement& placement,
                            const ProgressCallback& progress = {});
 
+class RayCaster;
+
+// One half line at turntable angle `beta` [rad]: the range of each of the sensor's beams
+// (alpha = k * alpha_step), NaN for no return, with range noise drawn from `seed`. The emulator
+// serves these line by line, as the LMS200 measures them.
+std::vector<double> simulateLineRanges(const Scene& scene, const RayCaster& caster,
+                                       const SensorModel& sensor, const ScannerPlacement& placement,
+                                       double beta, std::uint32_t seed);
+
 }  // namespace clearway::sim

@@ -1,0 +1,250 @@
+#include "clearway/hardware/rosi_emulator.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <stdlib.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <thread>
+
+#include "clearway/hardware/lms200_protocol.h"
+#include "clearway/hardware/turntable_protocol.h"
+#include "clearway/sim/ray_caster.h"
+#include "clearway/sim/rosi_simulator.h"
+
+namespace clearway::hardware {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The master side of a new pseudo-terminal, raw; `path` is the side a driver opens.
+int openPseudoTerminal(std::string& path) {
+  const int master = ::posix_openpt(O_RDWR | O_NOCTTY);
+  if (master < 0 || ::grantpt(master) != 0 || ::unlockpt(master) != 0)
+    throw std::runtime_error("cannot open a pseudo-terminal");
+  path = ::ptsname(master);
+  termios settings{};
+  ::tcgetattr(master, &settings);
+  ::cfmakeraw(&settings);
+  ::tcsetattr(master, TCSANOW, &settings);
+  ::fcntl(master, F_SETFL, ::fcntl(master, F_GETFL) | O_NONBLOCK);
+  return master;
+}
+
+void writeAll(int fd, const void* data, std::size_t size) {
+  const auto* bytes = static_cast<const std::uint8_t*>(data);
+  while (size > 0) {
+    const ssize_t written = ::write(fd, bytes, size);
+    if (written <= 0) return;  // nobody reads (the driver closed the port): drop the rest
+    bytes += written;
+    size -= std::size_t(written);
+  }
+}
+
+}  // namespace
+
+struct RosiEmulator::Impl {
+  sim::Scene scene;
+  EmulatorOptions options;
+  sim::RayCaster caster;
+  sim::SensorModel sensor;
+  sim::ScannerPlacement placement;
+  std::string lms_path, turntable_path;
+  int lms_fd = -1, turntable_fd = -1;
+  std::atomic<bool> running{true}, stalled{false}, corrupt_next{false};
+  std::thread thread;
+
+  // Device state (the emulator's thread only).
+  lms200::Parser lms_parser;
+  turntable::LineSplitter turntable_lines;
+  bool continuous = false;
+  bool turning = false;
+  double speed_deg_s = 45.0;
+  double angle_deg = 0.0;
+  std::uint32_t line_counter = 0;
+  Clock::time_point start = Clock::now(), last_step = Clock::now(), next_line = Clock::now(),
+                    next_angle = Clock::now();
+
+  Impl(sim::Scene s, EmulatorOptions o) : scene(std::move(s)), options(o), caster(scene) {
+    sensor.range_noise_sigma = 0.01;
+    placement = sim::defaultPlacement(scene);
+    lms_fd = openPseudoTerminal(lms_path);
+    turntable_fd = openPseudoTerminal(turntable_path);
+  }
+
+  void reply(std::uint8_t command, lms200::Bytes data) {
+    data.push_back(0x10);  // status: all fine
+    const lms200::Bytes telegram = lms200::encode(command, data, lms200::kFromScanner);
+    writeAll(lms_fd, telegram.data(), telegram.size());
+  }
+
+  void handleLms(const lms200::Telegram& request) {
+    const std::uint8_t ack = lms200::kAck;
+    const std::uint8_t nak = lms200::kNak;
+    switch (request.command) {
+      case lms200::kChangeOperatingMode: {
+        if (request.data.empty()) break;
+        const std::uint8_t mode = request.data[0];
+        if (mode == lms200::kModeInstallation &&
+            std::string(request.data.begin() + 1, request.data.end()) != "SICK_LMS") {
+          writeAll(lms_fd, &ack, 1);
+          reply(0xA0, {0x01});  // wrong password
+          return;
+        }
+        if (mode == lms200::kModeContinuousOutput) continuous = true;
+        if (mode == lms200::kModeValuesOnRequest) continuous = false;
+        writeAll(lms_fd, &ack, 1);
+        reply(0xA0, {0x00});
+        return;
+      }
+      case lms200::kSwitchVariant:
+        writeAll(lms_fd, &ack, 1);
+        reply(0xBB, {0x01, 180, 0, 50, 0});
+        return;
+      case lms200::kRequestStatus:
+        writeAll(lms_fd, &ack, 1);
+        reply(0xB1, {'L', 'M', 'S', '2', '0', '0', ' ', 'e', 'm', 'u'});
+        return;
+      default:
+        break;
+    }
+    writeAll(lms_fd, &nak, 1);
+  }
+
+  void handleTurntable(const std::string& line) {
+    std::string answer;
+    if (line == "HOME") {
+      angle_deg = 0.0;
+      answer = "OK HOME\n";
+    } else if (line.rfind("SPEED ", 0) == 0) {
+      const double speed = std::atof(line.c_str() + 6);
+      if (speed > 0.0 && speed <= 360.0) {
+        speed_deg_s = speed;
+        answer = "OK SPEED\n";
+      } else {
+        answer = "ERR speed out of range\n";
+      }
+    } else if (line == "START") {
+      turning = true;
+      answer = "OK START\n";
+    } else if (line == "STOP") {
+      turning = false;
+      answer = "OK STOP\n";
+    } else if (line == "STATUS") {
+      answer = "STATUS " + std::string(turning ? "turning" : "idle") + " " +
+               std::to_string(std::lround(angle_deg * 1000) % 360000) + " " +
+               std::to_string(speed_deg_s) + "\n";
+    } else {
+      answer = "ERR unknown command\n";
+    }
+    writeAll(turntable_fd, answer.data(), answer.size());
+  }
+
+  // One LMS200 line of 361 values in centimetres at the current angle.
+  void sendLine() {
+    const double beta = angle_deg * std::numbers::pi / 180.0;
+    const std::vector<double> ranges = sim::simulateLineRanges(scene, caster, sensor, placement,
+                                                               beta, options.seed + line_counter++);
+    lms200::Bytes data;
+    constexpr std::uint16_t kValues = 361;
+    data.push_back(std::uint8_t(kValues & 0xFF));
+    data.push_back(std::uint8_t(kValues >> 8));  // unit bits 00: centimetres
+    for (std::uint16_t k = 0; k < kValues; ++k) {
+      std::uint16_t value = 0x1FFF;  // no echo
+      if (k >= 180 && std::size_t(k - 180) < ranges.size() && std::isfinite(ranges[k - 180u]))
+        value = std::uint16_t(std::clamp(std::lround(ranges[k - 180u] * 100.0), 0L, 0x1FF6L));
+      data.push_back(std::uint8_t(value & 0xFF));
+      data.push_back(std::uint8_t(value >> 8));
+    }
+    data.push_back(0x10);
+    lms200::Bytes telegram =
+        lms200::encode(lms200::kMeasuredValuesReply, data, lms200::kFromScanner);
+    if (corrupt_next.exchange(false)) telegram[10] ^= 0x04;
+    writeAll(lms_fd, telegram.data(), telegram.size());
+  }
+
+  void serve() {
+    const auto line_period =
+        std::chrono::duration<double>(1.0 / (sim::SensorModel::kLineRateHz * options.speedup));
+    const auto angle_period = std::chrono::duration<double>(0.02 / options.speedup);
+    std::uint8_t buffer[4096];
+    while (running) {
+      pollfd fds[2] = {{lms_fd, POLLIN, 0}, {turntable_fd, POLLIN, 0}};
+      ::poll(fds, 2, 2);
+      const auto now = Clock::now();
+      if (stalled) {
+        // A hung device: it reads nothing, answers nothing; time still passes for the table.
+        last_step = now;
+        continue;
+      }
+      if (fds[0].revents & POLLIN) {
+        const ssize_t n = ::read(lms_fd, buffer, sizeof buffer);
+        if (n > 0)
+          for (const auto& event : lms_parser.feed(buffer, std::size_t(n)))
+            if (event.kind == lms200::ParseEvent::Kind::kTelegram) handleLms(event.telegram);
+      }
+      if (fds[1].revents & POLLIN) {
+        const ssize_t n = ::read(turntable_fd, buffer, sizeof buffer);
+        if (n > 0)
+          for (const std::string& line :
+               turntable_lines.feed(std::string(reinterpret_cast<char*>(buffer), std::size_t(n))))
+            handleTurntable(line);
+      }
+      // The table turns in emulated time.
+      const double elapsed =
+          std::chrono::duration<double>(now - last_step).count() * options.speedup;
+      last_step = now;
+      if (turning) angle_deg = std::fmod(angle_deg + speed_deg_s * elapsed, 360.0);
+      if (turning && now >= next_angle) {
+        const auto micros =
+            std::chrono::duration_cast<std::chrono::microseconds>(now - start).count();
+        const std::string sample = "ANGLE " + std::to_string(micros) + " " +
+                                   std::to_string(std::lround(angle_deg * 1000) % 360000) + "\n";
+        writeAll(turntable_fd, sample.data(), sample.size());
+        next_angle = now + std::chrono::duration_cast<Clock::duration>(angle_period);
+      }
+      if (continuous && now >= next_line) {
+        sendLine();
+        next_line = now + std::chrono::duration_cast<Clock::duration>(line_period);
+      }
+    }
+  }
+};
+
+RosiEmulator::RosiEmulator(sim::Scene scene, EmulatorOptions options)
+    : impl_(std::make_unique<Impl>(std::move(scene), options)) {
+  impl_->thread = std::thread([this] { impl_->serve(); });
+}
+
+RosiEmulator::~RosiEmulator() {
+  impl_->running = false;
+  if (impl_->thread.joinable()) impl_->thread.join();
+  ::close(impl_->lms_fd);
+  ::close(impl_->turntable_fd);
+}
+
+const std::string& RosiEmulator::lmsPort() const {
+  return impl_->lms_path;
+}
+const std::string& RosiEmulator::turntablePort() const {
+  return impl_->turntable_path;
+}
+
+std::string RosiEmulator::portsJson() const {
+  return "{\"lms\": \"" + impl_->lms_path + "\", \"turntable\": \"" + impl_->turntable_path + "\"}";
+}
+
+void RosiEmulator::stall(bool stalled) {
+  impl_->stalled = stalled;
+}
+void RosiEmulator::corruptNextTelegram() {
+  impl_->corrupt_next = true;
+}
+
+}  // namespace clearway::hardware

@@ -1,0 +1,146 @@
+// The emulator over real pseudo-terminals, spoken to as a driver would: LMS200 telegrams with
+// CRC and ACK, the continuous measured-values stream, the turntable's lines, and faults.
+
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <poll.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+
+#include "clearway/hardware/lms200_protocol.h"
+#include "clearway/hardware/rosi_emulator.h"
+#include "clearway/hardware/turntable_protocol.h"
+#include "clearway/sim/builtin_scenes.h"
+
+namespace clearway::hardware {
+namespace {
+
+using namespace std::chrono_literals;
+using lms200::ParseEvent;
+
+class Port {
+ public:
+  explicit Port(const std::string& path) : fd_(::open(path.c_str(), O_RDWR | O_NOCTTY)) {
+    termios settings{};
+    ::tcgetattr(fd_, &settings);
+    ::cfmakeraw(&settings);
+    ::tcsetattr(fd_, TCSANOW, &settings);
+  }
+  ~Port() { ::close(fd_); }
+  bool open() const { return fd_ >= 0; }
+  void send(const std::string& bytes) {
+    ASSERT_EQ(::write(fd_, bytes.data(), bytes.size()), ssize_t(bytes.size()));
+  }
+  void send(const lms200::Bytes& bytes) { send(std::string(bytes.begin(), bytes.end())); }
+  // Whatever arrives within `wait`.
+  std::string receive(std::chrono::milliseconds wait) {
+    std::string bytes;
+    const auto until = std::chrono::steady_clock::now() + wait;
+    while (std::chrono::steady_clock::now() < until) {
+      pollfd fd{fd_, POLLIN, 0};
+      if (::poll(&fd, 1, 10) > 0) {
+        char buffer[4096];
+        const ssize_t n = ::read(fd_, buffer, sizeof buffer);
+        if (n > 0) bytes.append(buffer, std::size_t(n));
+      }
+    }
+    return bytes;
+  }
+
+ private:
+  int fd_;
+};
+
+std::vector<ParseEvent> parse(lms200::Parser& parser, const std::string& bytes) {
+  return parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+}
+
+TEST(RosiEmulator, AnswersTelegramsWithAckAndReplies) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {10.0, 1});
+  Port lms(emulator.lmsPort());
+  ASSERT_TRUE(lms.open()) << emulator.lmsPort();
+  lms200::Parser parser;
+  lms.send(lms200::enterInstallationMode());
+  auto events = parse(parser, lms.receive(200ms));
+  ASSERT_GE(events.size(), 2u);
+  EXPECT_EQ(events[0].kind, ParseEvent::Kind::kAcknowledged);
+  ASSERT_EQ(events[1].kind, ParseEvent::Kind::kTelegram);
+  EXPECT_EQ(events[1].telegram.command, 0xA0);
+  EXPECT_EQ(events[1].telegram.data.front(), 0x00) << "password accepted";
+
+  lms.send(lms200::switchVariant(180, 50));
+  events = parse(parser, lms.receive(200ms));
+  ASSERT_EQ(events.back().kind, ParseEvent::Kind::kTelegram);
+  EXPECT_EQ(events.back().telegram.command, 0xBB);
+
+  lms.send(lms200::encode(0x77, {}));  // a command the LMS200 does not know
+  events = parse(parser, lms.receive(200ms));
+  ASSERT_FALSE(events.empty());
+  EXPECT_EQ(events.front().kind, ParseEvent::Kind::kRefused);
+}
+
+TEST(RosiEmulator, StreamsMeasuredValuesOfTheSceneWhileTheTableTurns) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 1});
+  Port lms(emulator.lmsPort());
+  Port table(emulator.turntablePort());
+  turntable::LineSplitter lines;
+  table.send(turntable::homeCommand());
+  table.send(turntable::startCommand());
+  lms200::Parser parser;
+  lms.send(lms200::changeOperatingMode(lms200::kModeContinuousOutput));
+  const auto events = parse(parser, lms.receive(400ms));
+  int value_lines = 0, measured = 0;
+  for (const ParseEvent& event : events) {
+    if (event.kind != ParseEvent::Kind::kTelegram ||
+        event.telegram.command != lms200::kMeasuredValuesReply)
+      continue;
+    const auto values = lms200::decodeMeasuredValues(event.telegram);
+    ASSERT_EQ(values.ranges.size(), 361u);
+    EXPECT_FALSE(values.ranges[10].has_value()) << "the half facing the mount reports no echo";
+    for (std::size_t k = 180; k < 361; ++k)
+      measured += values.ranges[k].has_value();
+    ++value_lines;
+  }
+  // 37.5 lines/s x 20 for 0.4 s is about 300 lines; allow for scheduling.
+  EXPECT_GT(value_lines, 30);
+  EXPECT_GT(measured, value_lines * 100) << "the garage returns most beams";
+  std::vector<turntable::AngleSample> samples;
+  for (const std::string& line : lines.feed(table.receive(200ms)))
+    if (const auto reply = turntable::parseReply(line);
+        reply && std::holds_alternative<turntable::AngleSample>(*reply))
+      samples.push_back(std::get<turntable::AngleSample>(*reply));
+  ASSERT_GT(samples.size(), 3u);
+  EXPECT_GT(samples.back().time_us, samples.front().time_us);
+  // Stop, and the stream ends.
+  lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
+  lms.receive(100ms);
+  const auto after = parse(parser, lms.receive(200ms));
+  EXPECT_TRUE(std::none_of(after.begin(), after.end(), [](const ParseEvent& e) {
+    return e.kind == ParseEvent::Kind::kTelegram &&
+           e.telegram.command == lms200::kMeasuredValuesReply;
+  }));
+}
+
+TEST(RosiEmulator, FaultsLookLikeAHungOrNoisyDevice) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 1});
+  Port lms(emulator.lmsPort());
+  lms200::Parser parser;
+  emulator.stall(true);
+  lms.send(lms200::requestStatus());
+  EXPECT_TRUE(lms.receive(150ms).empty()) << "a stalled device says nothing";
+  emulator.stall(false);
+  lms.send(lms200::changeOperatingMode(lms200::kModeContinuousOutput));
+  lms.receive(100ms);
+  emulator.corruptNextTelegram();
+  const auto events = parse(parser, lms.receive(200ms));
+  EXPECT_TRUE(std::any_of(events.begin(), events.end(),
+                          [](const ParseEvent& e) { return e.kind == ParseEvent::Kind::kBadCrc; }));
+  EXPECT_NE(emulator.portsJson().find(emulator.turntablePort()), std::string::npos);
+}
+
+}  // namespace
+}  // namespace clearway::hardware
