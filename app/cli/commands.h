@@ -13,5 +13,6 @@ int runSimulate(const std::vector<std::string>& words);
 int runScene(const std::vector<std::string>& words);
 int runEval(const std::vector<std::string>& words);
 int runSegment(const std::vector<std::string>& words);
+int runEmulate(const std::vector<std::string>& words);
 
 }  // namespace clearway::cli

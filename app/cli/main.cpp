@@ -30,6 +30,8 @@ constexpr const char* kUsage =
     "  segment SCAN -o DIR [--robot-width W] [--robot-length L] [--robot-height H]\n"
     "          [--max-step M] [--max-slope DEG] [--params FILE] [--method split-and-merge|hough]\n"
     "          [--threads N]                     planes, ground, traversability map, 3D scene\n"
+    "  emulate [--scene SCENE] [--ports FILE] [--speed X] [--seconds S]\n"
+    "                                            an LMS200 + turntable on two pseudo-terminals\n"
     "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
     "                                            score a segment result against the truth\n"
     "\n"
@@ -43,7 +45,7 @@ int main(int argc, char** argv) {
   const std::map<std::string, Command> commands = {
       {"info", clearway::cli::runInfo},       {"simulate", clearway::cli::runSimulate},
       {"scene", clearway::cli::runScene},     {"eval", clearway::cli::runEval},
-      {"segment", clearway::cli::runSegment},
+      {"segment", clearway::cli::runSegment}, {"emulate", clearway::cli::runEmulate},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;

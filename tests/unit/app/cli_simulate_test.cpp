@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "test_support.h"
 
@@ -76,6 +79,27 @@ TEST(CliEval, RefusesAFolderThatIsNoResult) {
   EXPECT_EQ(result.exit_code, 1);
   EXPECT_NE(result.err.find("report.json"), std::string::npos) << result.err;
   EXPECT_EQ(runCli("eval only-one-argument").exit_code, 2);
+}
+
+TEST(CliEmulate, WritesThePortsFileAndServesBothTerminals) {
+  test::TemporaryDirectory directory;
+  const auto ports = (directory / "ports.json").string();
+  // In the background for a second; the ports file appears once both terminals are open.
+  ASSERT_EQ(
+      std::system((shellQuote(CLEARWAY_CLI) + " emulate --scene garage --seconds 1.5 --ports " +
+                   shellQuote(ports) + " > /dev/null &")
+                      .c_str()),
+      0);
+  for (int attempt = 0; attempt < 100 && !std::filesystem::exists(ports); ++attempt)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_TRUE(std::filesystem::exists(ports));
+  const auto json = nlohmann::json::parse(test::readBytes(ports));
+  EXPECT_TRUE(std::filesystem::exists(json.at("lms").get<std::string>()));
+  EXPECT_TRUE(std::filesystem::exists(json.at("turntable").get<std::string>()));
+  EXPECT_NE(json.at("lms"), json.at("turntable"));
+  EXPECT_EQ(runCli("emulate --scene volcano --seconds 0.1").exit_code, 2);
+  std::this_thread::sleep_for(
+      std::chrono::milliseconds(1600));  // let it end before the folder goes
 }
 
 }  // namespace
