@@ -14,5 +14,6 @@ int runScene(const std::vector<std::string>& words);
 int runEval(const std::vector<std::string>& words);
 int runSegment(const std::vector<std::string>& words);
 int runEmulate(const std::vector<std::string>& words);
+int runAcquire(const std::vector<std::string>& words);
 
 }  // namespace clearway::cli

@@ -32,6 +32,8 @@ constexpr const char* kUsage =
     "          [--threads N]                     planes, ground, traversability map, 3D scene\n"
     "  emulate [--scene SCENE] [--ports FILE] [--speed X] [--seconds S]\n"
     "                                            an LMS200 + turntable on two pseudo-terminals\n"
+    "  acquire --lms PORT --turntable PORT [--lines N] [--speed DEG_S] [--timeout MS] -o SCAN.pcd\n"
+    "                                            one RoSi scan from the devices (or the emulator)\n"
     "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
     "                                            score a segment result against the truth\n"
     "\n"
@@ -46,6 +48,7 @@ int main(int argc, char** argv) {
       {"info", clearway::cli::runInfo},       {"simulate", clearway::cli::runSimulate},
       {"scene", clearway::cli::runScene},     {"eval", clearway::cli::runEval},
       {"segment", clearway::cli::runSegment}, {"emulate", clearway::cli::runEmulate},
+      {"acquire", clearway::cli::runAcquire},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;

@@ -102,5 +102,34 @@ TEST(CliEmulate, WritesThePortsFileAndServesBothTerminals) {
       std::chrono::milliseconds(1600));  // let it end before the folder goes
 }
 
+TEST(CliAcquire, AcquiresFromTheEmulatorAndFailsClearlyWithoutADevice) {
+  test::TemporaryDirectory directory;
+  const auto ports = (directory / "ports.json").string();
+  ASSERT_EQ(std::system((shellQuote(CLEARWAY_CLI) +
+                         " emulate --scene garage --speed 20 --seconds 2 --ports " +
+                         shellQuote(ports) + " > /dev/null &")
+                            .c_str()),
+            0);
+  for (int attempt = 0; attempt < 100 && !std::filesystem::exists(ports); ++attempt)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const auto json = nlohmann::json::parse(test::readBytes(ports));
+  const auto scan = (directory / "acquired.pcd").string();
+  const auto result = runCli("acquire --lms " + shellQuote(json.at("lms").get<std::string>()) +
+                             " --turntable " + shellQuote(json.at("turntable").get<std::string>()) +
+                             " --lines 60 -o " + shellQuote(scan));
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto info = nlohmann::json::parse(runCli("info --json " + shellQuote(scan)).out);
+  EXPECT_EQ(info.at("scan_lines"), 60);
+  EXPECT_EQ(info.at("points_per_line"), 180);
+
+  const auto missing =
+      runCli("acquire --lms /dev/clearway-none --turntable /dev/clearway-none -o " +
+             shellQuote((directory / "x.pcd").string()));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("cannot open /dev/clearway-none"), std::string::npos) << missing.err;
+  EXPECT_EQ(runCli("acquire -o x.pcd").exit_code, 2);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // let the emulator end first
+}
+
 }  // namespace
 }  // namespace clearway

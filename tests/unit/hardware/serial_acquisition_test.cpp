@@ -1,0 +1,77 @@
+// The acquisition driver against the emulator over real pseudo-terminals: a full revolution, the
+// same scene the simulator sees, a device that stops answering, and no device at all.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "clearway/hardware/rosi_emulator.h"
+#include "clearway/hardware/serial_acquisition.h"
+#include "clearway/sim/builtin_scenes.h"
+#include "clearway/sim/rosi_simulator.h"
+
+namespace clearway::hardware {
+namespace {
+
+double meanValidRange(const Scan& scan) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    const Point3f& p = scan.points[i];
+    sum += std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+    ++count;
+  }
+  return count ? sum / double(count) : 0.0;
+}
+
+TEST(SerialAcquisition, OneRevolutionFromTheEmulatorLooksLikeTheSimulatorsScan) {
+  const sim::Scene scene = *sim::builtinScene("garage");
+  RosiEmulator emulator(scene, {20.0, 3});
+  const Acquisition acquisition = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort());
+  ASSERT_TRUE(acquisition.complete) << acquisition.error;
+  const Scan& scan = acquisition.scan;
+  EXPECT_TRUE(scan.isOrganised());
+  EXPECT_EQ(scan.pointsPerLine(), 180u);
+  // 37.5 lines/s at 45 deg/s is 300 lines a turn; scheduling may add or drop a few.
+  EXPECT_GT(scan.lines.size(), 150u);
+  EXPECT_LT(scan.lines.size(), 600u);
+  EXPECT_NEAR(scan.lines.back().beta, 2 * M_PI, 0.2);
+  checkScanInvariants(scan);
+
+  sim::SensorModel sensor;
+  sensor.lines = int(scan.lines.size());
+  const Scan simulated = sim::simulateRosi(scene, sensor, sim::defaultPlacement(scene)).scan;
+  const double valid_share = double(scan.validCount()) / double(scan.size());
+  const double simulated_share = double(simulated.validCount()) / double(simulated.size());
+  EXPECT_NEAR(valid_share, simulated_share, 0.05);
+  EXPECT_NEAR(meanValidRange(scan), meanValidRange(simulated), 0.1 * meanValidRange(simulated));
+}
+
+TEST(SerialAcquisition, ADeviceThatStopsAnsweringLeavesAPartialScanAndAReason) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {2.0, 3});  // slow: a turn takes 4 s
+  AcquisitionOptions options;
+  options.answer_timeout_ms = 400;
+  // The device hangs once a twentieth of the turn has arrived.
+  const Acquisition acquisition =
+      acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options, [&](double fraction) {
+        if (fraction > 0.05) emulator.stall(true);
+        return true;
+      });
+  EXPECT_FALSE(acquisition.complete);
+  EXPECT_NE(acquisition.error.find("stopped answering"), std::string::npos) << acquisition.error;
+  EXPECT_GT(acquisition.scan.lines.size(), 0u);
+  EXPECT_LT(acquisition.scan.lines.size(), 300u);
+}
+
+TEST(SerialAcquisition, NoDeviceIsAClearErrorNotAHang) {
+  const Acquisition acquisition =
+      acquireRosiScan("/dev/clearway-no-such-port", "/dev/clearway-no-table");
+  EXPECT_FALSE(acquisition.complete);
+  EXPECT_NE(acquisition.error.find("cannot open /dev/clearway-no-such-port"), std::string::npos)
+      << acquisition.error;
+  EXPECT_TRUE(acquisition.scan.empty());
+}
+
+}  // namespace
+}  // namespace clearway::hardware
