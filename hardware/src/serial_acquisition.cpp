@@ -250,9 +250,9 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
                                          ? 0.0
                                          : result.scan.lines.back().beta / (2 * std::numbers::pi));
       if (!progress(fraction)) {
-        lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
-        table.send(turntable::stopCommand());
-        throw OperationCancelled();
+        error = "cancelled by the operator after " + std::to_string(result.scan.lines.size()) +
+                " lines";
+        done = true;
       }
     }
   }

@@ -1,18 +1,22 @@
 // Scan review (recent list, Previous/Next, drag and drop), exports and the parameters dialog,
 // under QT_QPA_PLATFORM=offscreen with isolated settings.
 
+#include <QComboBox>
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
 #include <QLabel>
+#include <QLineEdit>
 #include <QListWidget>
 #include <QMimeData>
 #include <QPushButton>
 #include <QSettings>
 #include <QSignalSpy>
+#include <QSpinBox>
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include "clearway/hardware/rosi_emulator.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/rosi_simulator.h"
@@ -168,6 +172,41 @@ class ReviewAndExportTest : public QObject {
     const clearway::Scan partial = clearway::loadScan(arguments.at(0).toString().toStdString());
     QVERIFY(partial.lines.size() > 0);
     QVERIFY(partial.lines.size() < 300);
+  }
+
+  void theSerialRosiAcquiresFromTheEmulatorThroughThePanel() {
+    clearway::hardware::RosiEmulator emulator(*clearway::sim::builtinScene("garage"), {20.0, 2});
+    HardwarePanel panel;
+    panel.setScanFolder(directory_.filePath("serial"));
+    panel.findChild<QComboBox*>("scannerDevice")->setCurrentIndex(1);
+    panel.findChild<QLineEdit*>("lmsPort")->setText(QString::fromStdString(emulator.lmsPort()));
+    panel.findChild<QLineEdit*>("turntablePort")
+        ->setText(QString::fromStdString(emulator.turntablePort()));
+    panel.findChild<QSpinBox*>("scanLines")->setValue(60);
+    auto* scan_button = panel.findChild<QPushButton*>("scanButton");
+    panel.connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
+    QSignalSpy saved(&panel, &HardwarePanel::scanSaved);
+    scan_button->click();
+    QVERIFY(saved.wait(kTimeoutMs));
+    const auto arguments = saved.takeFirst();
+    QCOMPARE(arguments.at(1).toBool(), true);
+    const clearway::Scan scan = clearway::loadScan(arguments.at(0).toString().toStdString());
+    QCOMPARE(scan.lines.size(), std::size_t(60));
+    QCOMPARE(scan.pointsPerLine(), std::size_t(180));
+  }
+
+  void aMissingSerialPortIsNamedInWords() {
+    HardwarePanel panel;
+    panel.findChild<QComboBox*>("scannerDevice")->setCurrentIndex(1);
+    panel.findChild<QLineEdit*>("lmsPort")->setText("/dev/clearway-none");
+    QSignalSpy status(&panel, &HardwarePanel::statusChanged);
+    panel.connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(status.count() > 0, kTimeoutMs);
+    bool named = false;
+    for (const auto& arguments : status)
+      named |= arguments.at(0).toString().contains("/dev/clearway-none");
+    QVERIFY(named);
   }
 
  private:

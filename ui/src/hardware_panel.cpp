@@ -6,12 +6,13 @@
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
+#include <QLineEdit>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QSpinBox>
-#include <QStandardItemModel>
 #include <QStandardPaths>
 
+#include "clearway/hardware/serial_rosi.h"
 #include "clearway/hardware/simulated_rosi.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
@@ -29,7 +30,9 @@ struct HardwarePanel::Private {
   QPushButton* cancel = nullptr;
   QLabel* status = nullptr;
   QProgressBar* progress = nullptr;
-  std::unique_ptr<hardware::SimulatedRosi> scanner;
+  QLineEdit* lms_port = nullptr;
+  QLineEdit* turntable_port = nullptr;
+  std::unique_ptr<ScannerDevice> scanner;
   QString folder;
   double speedup = 8.0;
 };
@@ -42,10 +45,14 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->device = new QComboBox(this);
   d_->device->setObjectName("scannerDevice");
   d_->device->addItem(tr("Simulated RoSi"));
-  d_->device->addItem(tr("Serial RoSi (LMS200 + turntable): not available yet"));
-  // The serial driver comes with the hardware issue; offer it but keep it disabled.
-  qobject_cast<QStandardItemModel*>(d_->device->model())->item(1)->setEnabled(false);
+  d_->device->addItem(tr("Serial RoSi (LMS200 + turntable)"));
   form->addRow(tr("Device"), d_->device);
+  d_->lms_port = new QLineEdit("/dev/ttyUSB0", this);
+  d_->lms_port->setObjectName("lmsPort");
+  d_->turntable_port = new QLineEdit("/dev/ttyUSB1", this);
+  d_->turntable_port->setObjectName("turntablePort");
+  form->addRow(tr("Laser port"), d_->lms_port);
+  form->addRow(tr("Turntable port"), d_->turntable_port);
   d_->scene = new QComboBox(this);
   d_->scene->setObjectName("simulatedScene");
   for (const std::string& name : sim::builtinSceneNames())
@@ -95,13 +102,20 @@ QString HardwarePanel::scanFolder() const {
 }
 void HardwarePanel::setSpeedup(double speedup) {
   d_->speedup = speedup;
-  if (d_->scanner) d_->scanner->setSpeedup(speedup);
+  if (auto* simulated = dynamic_cast<hardware::SimulatedRosi*>(d_->scanner.get()))
+    simulated->setSpeedup(speedup);
 }
 
 void HardwarePanel::connectScanner() {
-  d_->scanner = std::make_unique<hardware::SimulatedRosi>(
-      *sim::builtinScene(d_->scene->currentText().toStdString()));
-  d_->scanner->setSpeedup(d_->speedup);
+  if (d_->device->currentIndex() == 1) {
+    d_->scanner =
+        std::make_unique<hardware::SerialRosi>(d_->lms_port->text(), d_->turntable_port->text());
+  } else {
+    auto simulated = std::make_unique<hardware::SimulatedRosi>(
+        *sim::builtinScene(d_->scene->currentText().toStdString()));
+    simulated->setSpeedup(d_->speedup);
+    d_->scanner = std::move(simulated);
+  }
   ScannerDevice* device = d_->scanner.get();
   connect(device, &ScannerDevice::stateChanged, this, [this, device](ScannerDevice::State state) {
     d_->scan->setEnabled(state == ScannerDevice::State::kIdle);

@@ -26,8 +26,8 @@ struct Acquisition {
   std::string error;
 };
 
-// Never throws for device trouble: it is reported in `error`, with what arrived kept.
-// OperationCancelled when `progress` asks to stop (the lines so far are not returned then).
+// Never throws for device trouble: it is reported in `error`, with what arrived kept. When
+// `progress` asks to stop, the devices are stopped and the lines so far come back, incomplete.
 Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turntable_port,
                             const AcquisitionOptions& options = {},
                             const ProgressCallback& progress = {});

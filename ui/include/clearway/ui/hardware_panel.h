@@ -1,7 +1,7 @@
 #pragma once
 
-// The scanner: choose the device (the simulated RoSi now; the serial RoSi with the hardware
-// issue), Connect, Scan (scan-and-stop), Cancel, live progress and the device's state in words.
+// The scanner: choose the device (the simulated RoSi, or the RoSi on two serial ports), Connect,
+// Scan (scan-and-stop), Cancel, live progress and the device's state in words.
 // Every acquisition is saved (atomically) before anything else happens, then handed on.
 
 #include <QWidget>

@@ -1,0 +1,38 @@
+#pragma once
+
+// The real RoSi behind ScannerDevice: an LMS200 and a turntable on two serial ports. A scan runs
+// acquireRosiScan on a thread of its own; progress and the result come back on the object's thread.
+
+#include <QString>
+#include <atomic>
+#include <memory>
+#include <thread>
+
+#include "clearway/hardware/scanner_device.h"
+#include "clearway/hardware/serial_acquisition.h"
+
+namespace clearway::hardware {
+
+class SerialRosi : public ScannerDevice {
+  Q_OBJECT
+
+ public:
+  SerialRosi(QString lms_port, QString turntable_port, QObject* parent = nullptr);
+  ~SerialRosi() override;  // cancels and waits for a running scan
+
+  QString description() const override;
+
+ protected:
+  void doConnect() override;
+  void doDisconnect() override;
+  void doStartScan(const ScanRequest& request) override;
+  void doCancel() override;
+
+ private:
+  void join();
+  QString lms_port_, turntable_port_;
+  std::thread worker_;
+  std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
+};
+
+}  // namespace clearway::hardware

@@ -1,0 +1,82 @@
+#include "clearway/hardware/serial_rosi.h"
+
+#include <QFileInfo>
+#include <QMetaObject>
+#include <QPointer>
+
+namespace clearway::hardware {
+
+SerialRosi::SerialRosi(QString lms_port, QString turntable_port, QObject* parent)
+    : ScannerDevice(parent),
+      lms_port_(std::move(lms_port)),
+      turntable_port_(std::move(turntable_port)) {}
+
+SerialRosi::~SerialRosi() {
+  *cancel_ = true;
+  join();
+}
+
+void SerialRosi::join() {
+  if (worker_.joinable()) worker_.join();
+}
+
+QString SerialRosi::description() const {
+  return tr("RoSi on %1 (laser) and %2 (turntable)").arg(lms_port_, turntable_port_);
+}
+
+void SerialRosi::doConnect() {
+  // The devices are opened and configured for each scan; here only check that the ports exist.
+  for (const QString& port : {lms_port_, turntable_port_}) {
+    if (!QFileInfo::exists(port)) {
+      fail(tr("There is no serial port %1. Is the scanner plugged in?").arg(port));
+      return;
+    }
+  }
+  setState(State::kIdle);
+}
+
+void SerialRosi::doDisconnect() {
+  *cancel_ = true;
+  join();
+}
+
+void SerialRosi::doStartScan(const ScanRequest& request) {
+  join();
+  *cancel_ = false;
+  AcquisitionOptions options;
+  options.lines = request.lines;
+  if (request.turntable_speed_deg_s > 0)
+    options.turntable_speed_deg_s = request.turntable_speed_deg_s;
+  const int expected = request.lines > 0 ? request.lines : 300;
+  QPointer<SerialRosi> self(this);
+  auto cancel = cancel_;
+  worker_ = std::thread([self, cancel, options, expected, lms = lms_port_.toStdString(),
+                         table = turntable_port_.toStdString()] {
+    const Acquisition acquisition = acquireRosiScan(lms, table, options, [&](double fraction) {
+      QMetaObject::invokeMethod(
+          self,
+          [self, fraction, expected] {
+            if (self) emit self->progress(int(fraction * expected), expected);
+          },
+          Qt::QueuedConnection);
+      return !*cancel;
+    });
+    auto scan = std::make_shared<const Scan>(acquisition.scan);
+    QMetaObject::invokeMethod(
+        self,
+        [self, scan, acquisition] {
+          if (!self) return;
+          self->setState(State::kIdle);
+          if (!acquisition.complete) emit self->failed(QString::fromStdString(acquisition.error));
+          if (!scan->empty() || acquisition.complete)
+            emit self->scanFinished(scan, acquisition.complete);
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+void SerialRosi::doCancel() {
+  *cancel_ = true;
+}
+
+}  // namespace clearway::hardware
