@@ -57,7 +57,8 @@ struct RosiEmulator::Impl {
   sim::ScannerPlacement placement;
   std::string lms_path, turntable_path;
   int lms_fd = -1, turntable_fd = -1;
-  std::atomic<bool> running{true}, stalled{false}, corrupt_next{false};
+  std::atomic<bool> running{true}, stalled{false}, corrupt_next{false}, corrupt_all{false},
+      hung_up{false};
   std::thread thread;
 
   // Device state (the emulator's thread only).
@@ -165,7 +166,7 @@ struct RosiEmulator::Impl {
     data.push_back(0x10);
     lms200::Bytes telegram =
         lms200::encode(lms200::kMeasuredValuesReply, data, lms200::kFromScanner);
-    if (corrupt_next.exchange(false)) telegram[10] ^= 0x04;
+    if (corrupt_next.exchange(false) || corrupt_all) telegram[10] ^= 0x04;
     writeAll(lms_fd, telegram.data(), telegram.size());
   }
 
@@ -178,7 +179,11 @@ struct RosiEmulator::Impl {
       pollfd fds[2] = {{lms_fd, POLLIN, 0}, {turntable_fd, POLLIN, 0}};
       ::poll(fds, 2, 2);
       const auto now = Clock::now();
-      if (stalled) {
+      if (hung_up && lms_fd >= 0) {
+        ::close(lms_fd);  // the driver's side sees the line hang up
+        lms_fd = -1;
+      }
+      if (stalled || lms_fd < 0) {
         // A hung device: it reads nothing, answers nothing; time still passes for the table.
         last_step = now;
         continue;
@@ -225,7 +230,7 @@ RosiEmulator::RosiEmulator(sim::Scene scene, EmulatorOptions options)
 RosiEmulator::~RosiEmulator() {
   impl_->running = false;
   if (impl_->thread.joinable()) impl_->thread.join();
-  ::close(impl_->lms_fd);
+  if (impl_->lms_fd >= 0) ::close(impl_->lms_fd);
   ::close(impl_->turntable_fd);
 }
 
@@ -245,6 +250,12 @@ void RosiEmulator::stall(bool stalled) {
 }
 void RosiEmulator::corruptNextTelegram() {
   impl_->corrupt_next = true;
+}
+void RosiEmulator::corruptEveryTelegram(bool corrupt) {
+  impl_->corrupt_all = corrupt;
+}
+void RosiEmulator::hangUp() {
+  impl_->hung_up = true;
 }
 
 }  // namespace clearway::hardware

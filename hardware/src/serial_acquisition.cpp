@@ -50,6 +50,13 @@ class SerialPort {
     if (fd_ >= 0) ::close(fd_);
   }
   const std::string& error() const { return error_; }
+  // The LMS200 changes its speed after acknowledging the mode telegram; the port follows.
+  bool setSpeed(speed_t speed) {
+    termios settings{};
+    if (::tcgetattr(fd_, &settings) != 0) return false;
+    ::cfsetspeed(&settings, speed);
+    return ::tcsetattr(fd_, TCSADRAIN, &settings) == 0;
+  }
   const std::string& path() const { return path_; }
   int fd() const { return fd_; }
   bool send(const std::string& bytes) {
@@ -169,6 +176,9 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
   const int timeout = options.answer_timeout_ms;
   std::string& error = result.error;
   if (!request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout, error) ||
+      !request(lms, parser, lms200::changeOperatingMode(lms200::kModeBaud38400), 0xA0, timeout,
+               error) ||
+      !lms.setSpeed(B38400) ||
       !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) ||
       !turntableCommand(table, table_lines, turntable::homeCommand(), timeout, error) ||
       !turntableCommand(table, table_lines, turntable::speedCommand(options.turntable_speed_deg_s),

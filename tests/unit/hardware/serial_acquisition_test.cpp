@@ -64,6 +64,28 @@ TEST(SerialAcquisition, ADeviceThatStopsAnsweringLeavesAPartialScanAndAReason) {
   EXPECT_LT(acquisition.scan.lines.size(), 300u);
 }
 
+TEST(SerialAcquisition, ALinkTooNoisyForAnyTelegramIsReported) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  emulator.corruptEveryTelegram(true);  // setup replies are not measured values: they pass
+  const Acquisition acquisition = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort());
+  EXPECT_FALSE(acquisition.complete);
+  EXPECT_NE(acquisition.error.find("too noisy"), std::string::npos) << acquisition.error;
+}
+
+TEST(SerialAcquisition, APulledCableKeepsWhatArrived) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {2.0, 3});
+  AcquisitionOptions options;
+  options.answer_timeout_ms = 400;
+  const Acquisition acquisition =
+      acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options, [&](double fraction) {
+        if (fraction > 0.05) emulator.hangUp();
+        return true;
+      });
+  EXPECT_FALSE(acquisition.complete);
+  EXPECT_GT(acquisition.scan.lines.size(), 0u);
+  EXPECT_FALSE(acquisition.error.empty());
+}
+
 TEST(SerialAcquisition, NoDeviceIsAClearErrorNotAHang) {
   const Acquisition acquisition =
       acquireRosiScan("/dev/clearway-no-such-port", "/dev/clearway-no-table");

@@ -36,8 +36,10 @@ class RosiEmulator {
   std::string portsJson() const;
 
   // Fault injection for driver tests.
-  void stall(bool stalled);    // stop answering and sending, as a hung device
-  void corruptNextTelegram();  // flip a bit in the next measured-values telegram
+  void stall(bool stalled);                 // stop answering and sending, as a hung device
+  void corruptNextTelegram();               // flip a bit in the next measured-values telegram
+  void corruptEveryTelegram(bool corrupt);  // a link so noisy no measured values survive
+  void hangUp();                            // the laser's cable is pulled: its terminal closes
 
  private:
   struct Impl;
