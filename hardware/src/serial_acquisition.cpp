@@ -240,6 +240,9 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
       if (!first_angle) first_angle = *angle;
       appendLine(result.scan, (*angle - *first_angle) * kDeg, pending.front().ranges);
       pending.pop_front();
+      if (options.lines_arrived &&
+          result.scan.lines.size() % std::size_t(std::max(1, options.lines_arrived_every)) == 0)
+        options.lines_arrived(result.scan);
       const double turned = *angle - *first_angle;
       const bool enough_lines = options.lines > 0 && int(result.scan.lines.size()) >= options.lines;
       if (enough_lines || (options.lines == 0 && turned >= 360.0)) {

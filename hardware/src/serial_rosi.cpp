@@ -50,6 +50,15 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
   const int expected = request.lines > 0 ? request.lines : 300;
   QPointer<SerialRosi> self(this);
   auto cancel = cancel_;
+  options.lines_arrived = [self](const Scan& so_far) {
+    auto copy = std::make_shared<const Scan>(so_far);
+    QMetaObject::invokeMethod(
+        self,
+        [self, copy] {
+          if (self) emit self->linesArrived(copy);
+        },
+        Qt::QueuedConnection);
+  };
   worker_ = std::thread([self, cancel, options, expected, lms = lms_port_.toStdString(),
                          table = turntable_port_.toStdString()] {
     const Acquisition acquisition = acquireRosiScan(lms, table, options, [&](double fraction) {

@@ -81,6 +81,7 @@ void SimulatedRosi::deliverLines() {
   const int total = int(full_scan_->lines.size());
   delivered_ = std::min(total, delivered_ + kLinesPerTick);
   emit progress(delivered_, total);
+  emit linesArrived(firstLines(*full_scan_, delivered_));
   if (delivered_ < total) return;
   line_timer_.stop();
   std::shared_ptr<const Scan> scan = std::move(full_scan_);

@@ -29,6 +29,8 @@
 
 using namespace clearway::ui;
 
+Q_DECLARE_METATYPE(std::shared_ptr<const clearway::Scan>)
+
 namespace {
 
 constexpr int kTimeoutMs = 30000;
@@ -53,6 +55,7 @@ class ReviewAndExportTest : public QObject {
     QStandardPaths::setTestModeEnabled(true);
     QCoreApplication::setApplicationName("clearway-review-test");
     QSettings().clear();
+    qRegisterMetaType<std::shared_ptr<const clearway::Scan>>();
     QVERIFY(directory_.isValid());
     simulateInto(directory_.filePath("a_garage.pcd"), "garage");
     simulateInto(directory_.filePath("b_hallway.pcd"), "hallway");
@@ -145,8 +148,15 @@ class ReviewAndExportTest : public QObject {
     QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
     QSignalSpy saved(panel, &HardwarePanel::scanSaved);
     QSignalSpy shown(&window, &MainWindow::resultShown);
+    QSignalSpy arriving(panel, &HardwarePanel::linesArrived);
     scan_button->click();
     QVERIFY(saved.wait(kTimeoutMs));
+    // The cloud grew while the lines came in.
+    QVERIFY(arriving.count() > 2);
+    const auto first = arriving.first().at(0).value<std::shared_ptr<const clearway::Scan>>();
+    const auto last = arriving.last().at(0).value<std::shared_ptr<const clearway::Scan>>();
+    QVERIFY(first && last);
+    QVERIFY(last->lines.size() > first->lines.size());
     const QString path = saved.takeFirst().at(0).toString();
     QVERIFY(QFileInfo::exists(path));
     QVERIFY(path.startsWith(folder));

@@ -122,6 +122,7 @@ void HardwarePanel::connectScanner() {
     d_->cancel->setEnabled(state == ScannerDevice::State::kScanning);
     emit statusChanged(tr("%1: %2.").arg(device->description(), ScannerDevice::stateName(state)));
   });
+  connect(device, &ScannerDevice::linesArrived, this, &HardwarePanel::linesArrived);
   connect(device, &ScannerDevice::progress, this, [this](int received, int expected) {
     d_->progress->setMaximum(expected);
     d_->progress->setValue(received);

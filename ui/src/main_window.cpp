@@ -150,8 +150,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   });
   connect(d_->scans, &ScanPanel::openRequested, this, &MainWindow::openScan);
   // Scan-and-stop: a saved acquisition is segmented and shown at once.
-  connect(d_->hardware, &HardwarePanel::scanSaved, this,
-          [this](const QString& path) { openScan(path); });
+  connect(d_->hardware, &HardwarePanel::scanSaved, this, [this](const QString& path) {
+    openScan(path);
+    connect(d_->hardware, &HardwarePanel::linesArrived, d_->scene, &SceneView::showArrivingScan);
+  });
   connect(d_->scans, &ScanPanel::browseRequested, this, &MainWindow::browseForScan);
   setAcceptDrops(true);
   connect(d_->cancel, &QPushButton::clicked, d_->session, &SegmentationSession::cancel);

@@ -245,6 +245,30 @@ void SceneView::setScene(std::shared_ptr<const Scan> scan,
   }
 }
 
+void SceneView::showArrivingScan(std::shared_ptr<const Scan> so_far) {
+  if (!hasRenderer() || !so_far) return;
+  const bool first = d_->layers.find(Layer::kCloud) == d_->layers.end() || d_->result;
+  if (first) {
+    d_->renderer->RemoveAllViewProps();
+    d_->layers.clear();
+    d_->result = nullptr;
+    d_->has_frame = false;
+  } else {
+    d_->renderer->RemoveActor(d_->layers[Layer::kCloud]);
+  }
+  d_->scan = so_far;
+  auto cloud = actorFor(pointCloud(*so_far, nullptr, d_->cloud_colour, d_->up, nullptr));
+  cloud->GetProperty()->SetPointSize(2);
+  cloud->SetVisibility(d_->visible[Layer::kCloud]);
+  d_->layers[Layer::kCloud] = cloud;
+  d_->renderer->AddActor(cloud);
+  if (first) {
+    resetCamera();
+  } else {
+    d_->window->Render();
+  }
+}
+
 void SceneView::setLayerVisible(Layer layer, bool visible) {
   d_->visible[layer] = visible;
   if (!hasRenderer()) return;

@@ -41,6 +41,8 @@ class ScannerDevice : public QObject {
   void stateChanged(clearway::hardware::ScannerDevice::State state);
   // A line arrived: `received` of `expected` lines so far.
   void progress(int received, int expected);
+  // The lines so far, as a scan (throttled): the console shows the cloud growing.
+  void linesArrived(std::shared_ptr<const clearway::Scan> so_far);
   // The scan is complete (or, with `complete` false, the part that arrived before a failure).
   void scanFinished(std::shared_ptr<const clearway::Scan> scan, bool complete);
   // An operator-readable reason.

@@ -6,6 +6,7 @@
 // at its arrival and kept until one revolution (or the requested lines) is complete. Blocking:
 // the console runs it on a worker thread; clearway-cli acquire calls it directly.
 
+#include <functional>
 #include <string>
 
 #include "clearway/progress.h"
@@ -18,6 +19,9 @@ struct AcquisitionOptions {
   double turntable_speed_deg_s = 45.0;
   int answer_timeout_ms = 1000;  // a device silent this long is lost
   int max_bad_telegrams = 20;    // this many corrupt telegrams in a row: the link is unusable
+  // Called with the scan so far every `lines_arrived_every` lines (on the acquiring thread).
+  std::function<void(const Scan&)> lines_arrived;
+  int lines_arrived_every = 16;
 };
 
 struct Acquisition {

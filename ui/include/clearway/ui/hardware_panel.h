@@ -7,6 +7,8 @@
 #include <QWidget>
 #include <memory>
 
+#include "clearway/scan.h"
+
 namespace clearway::ui {
 
 class HardwarePanel : public QWidget {
@@ -31,6 +33,8 @@ class HardwarePanel : public QWidget {
   // A scan was acquired and saved; `complete` is false for the part kept after a cancel or loss.
   void scanSaved(const QString& path, bool complete);
   void statusChanged(const QString& status);
+  // The lines of the scan in progress, for the 3D view.
+  void linesArrived(std::shared_ptr<const clearway::Scan> so_far);
 
  private:
   struct Private;

@@ -26,6 +26,9 @@ class SceneView : public QWidget {
   enum class CloudColour { kRemission, kHeight, kClass };
 
   void setScene(std::shared_ptr<const Scan> scan, std::shared_ptr<const PipelineResult> result);
+  // A scan still arriving: only the cloud is replaced; the camera stays where the operator put it
+  // (it is placed once, on the first lines).
+  void showArrivingScan(std::shared_ptr<const Scan> so_far);
   void resetCamera();
   void setCameraView(CameraView view);
   void setLayerVisible(Layer layer, bool visible);
