@@ -8,8 +8,8 @@
 namespace clearway::cli {
 
 int runAcquire(const std::vector<std::string>& words) {
-  const Arguments arguments(words, {},
-                            {"lms", "turntable", "lines", "speed", "timeout", "o", "output"});
+  const Arguments arguments(
+      words, {}, {"lms", "turntable", "lines", "speed", "timeout", "baud", "o", "output"});
   arguments.expectPositional(
       0, "clearway-cli acquire --lms PORT --turntable PORT [--lines N] -o SCAN.pcd");
   const auto lms = arguments.option("lms"), table = arguments.option("turntable");

@@ -133,6 +133,26 @@ bool turntableCommand(SerialPort& table, turntable::LineSplitter& lines, const s
   return false;
 }
 
+struct LinkSpeed {
+  std::uint8_t mode;  // the operating-mode telegram that switches the LMS200
+  speed_t speed;      // the port's setting to follow it
+};
+
+std::optional<LinkSpeed> linkSpeed(int baud) {
+  switch (baud) {
+    case 9600:
+      return LinkSpeed{lms200::kModeBaud9600, B9600};
+    case 19200:
+      return LinkSpeed{lms200::kModeBaud19200, B19200};
+    case 38400:
+      return LinkSpeed{lms200::kModeBaud38400, B38400};
+    case 500000:
+      return LinkSpeed{lms200::kModeBaud500k, B500000};
+    default:
+      return std::nullopt;
+  }
+}
+
 struct PendingLine {
   std::int64_t time_us;
   std::vector<std::optional<double>> ranges;
@@ -174,11 +194,16 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
   lms200::Parser parser;
   turntable::LineSplitter table_lines;
   const int timeout = options.answer_timeout_ms;
+  const std::optional<LinkSpeed> link = linkSpeed(options.baud);
+  if (!link) {
+    result.error = "the LMS200 cannot run at " + std::to_string(options.baud) +
+                   " baud (9600, 19200, 38400 or 500000)";
+    return result;
+  }
   std::string& error = result.error;
   if (!request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout, error) ||
-      !request(lms, parser, lms200::changeOperatingMode(lms200::kModeBaud38400), 0xA0, timeout,
-               error) ||
-      !lms.setSpeed(B38400) ||
+      !request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error) ||
+      !lms.setSpeed(link->speed) ||
       !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) ||
       !turntableCommand(table, table_lines, turntable::homeCommand(), timeout, error) ||
       !turntableCommand(table, table_lines, turntable::speedCommand(options.turntable_speed_deg_s),

@@ -86,6 +86,19 @@ TEST(SerialAcquisition, APulledCableKeepsWhatArrived) {
   EXPECT_FALSE(acquisition.error.empty());
 }
 
+TEST(SerialAcquisition, RunsAt500kBaudAndRefusesSpeedsTheLms200DoesNotHave) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.baud = 500000;
+  options.lines = 40;
+  const Acquisition fast = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  EXPECT_TRUE(fast.complete) << fast.error;
+  EXPECT_EQ(fast.scan.lines.size(), 40u);
+  options.baud = 115200;
+  const Acquisition wrong = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  EXPECT_NE(wrong.error.find("cannot run at 115200"), std::string::npos) << wrong.error;
+}
+
 TEST(SerialAcquisition, NoDeviceIsAClearErrorNotAHang) {
   const Acquisition acquisition =
       acquireRosiScan("/dev/clearway-no-such-port", "/dev/clearway-no-table");

@@ -18,7 +18,10 @@ struct AcquisitionOptions {
   int lines = 0;  // 0 = one full revolution
   double turntable_speed_deg_s = 45.0;
   int answer_timeout_ms = 1000;  // a device silent this long is lost
-  int max_bad_telegrams = 20;    // this many corrupt telegrams in a row: the link is unusable
+  // The LMS200 starts at 9600 baud; after setup it is switched to this: 9600, 19200, 38400 or
+  // 500000 (the last needs an RS-422 interface).
+  int baud = 38400;
+  int max_bad_telegrams = 20;  // this many corrupt telegrams in a row: the link is unusable
   // Called with the scan so far every `lines_arrived_every` lines (on the acquiring thread).
   std::function<void(const Scan&)> lines_arrived;
   int lines_arrived_every = 16;
