@@ -15,73 +15,19 @@
 #include <optional>
 
 #include "clearway/hardware/lms200_protocol.h"
+#include "clearway/hardware/serial_turntable.h"
 #include "clearway/hardware/turntable_protocol.h"
+#include "serial_port.h"
 
 namespace clearway::hardware {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using detail::nowMicros;
+using detail::SerialPort;
+using detail::waitReadable;
 constexpr int kRosiPoints = 180;  // the half line alpha 0 .. 89.5 deg: LMS values 180 .. 359
 constexpr double kDeg = std::numbers::pi / 180.0;
-
-std::int64_t nowMicros() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(Clock::now().time_since_epoch())
-      .count();
-}
-
-class SerialPort {
- public:
-  explicit SerialPort(const std::string& path) : path_(path) {
-    fd_ = ::open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK);
-    if (fd_ < 0) {
-      error_ = "cannot open " + path + ": " + std::strerror(errno);
-      return;
-    }
-    termios settings{};
-    if (::tcgetattr(fd_, &settings) != 0) {
-      error_ = path + " is not a serial port";
-      return;
-    }
-    ::cfmakeraw(&settings);
-    ::cfsetspeed(&settings, B9600);  // the LMS200's speed after power-up; a pty ignores it
-    ::tcsetattr(fd_, TCSANOW, &settings);
-  }
-  ~SerialPort() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  const std::string& error() const { return error_; }
-  // The LMS200 changes its speed after acknowledging the mode telegram; the port follows.
-  bool setSpeed(speed_t speed) {
-    termios settings{};
-    if (::tcgetattr(fd_, &settings) != 0) return false;
-    ::cfsetspeed(&settings, speed);
-    return ::tcsetattr(fd_, TCSADRAIN, &settings) == 0;
-  }
-  const std::string& path() const { return path_; }
-  int fd() const { return fd_; }
-  bool send(const std::string& bytes) {
-    return ::write(fd_, bytes.data(), bytes.size()) == ssize_t(bytes.size());
-  }
-  bool send(const lms200::Bytes& bytes) { return send(std::string(bytes.begin(), bytes.end())); }
-  std::string readAvailable() {
-    std::string bytes;
-    char buffer[4096];
-    ssize_t n;
-    while ((n = ::read(fd_, buffer, sizeof buffer)) > 0)
-      bytes.append(buffer, std::size_t(n));
-    return bytes;
-  }
-
- private:
-  std::string path_;
-  std::string error_;
-  int fd_ = -1;
-};
-
-bool waitReadable(int fd, int timeout_ms) {
-  pollfd descriptor{fd, POLLIN, 0};
-  return ::poll(&descriptor, 1, timeout_ms) > 0;
-}
 
 // Sends a request and waits for the scanner's ACK and its reply telegram with `reply_command`.
 std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
@@ -108,29 +54,6 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
   }
   error = "the laser scanner does not answer on " + lms.path() + " (is it connected and powered?)";
   return std::nullopt;
-}
-
-bool turntableCommand(SerialPort& table, turntable::LineSplitter& lines, const std::string& command,
-                      int timeout_ms, std::string& error) {
-  if (!table.send(command)) {
-    error = "cannot write to " + table.path();
-    return false;
-  }
-  const std::string expected = "OK " + command.substr(0, command.find_first_of(" \n"));
-  const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
-  while (Clock::now() < deadline) {
-    if (!waitReadable(table.fd(), 20)) continue;
-    for (const std::string& line : lines.feed(table.readAvailable())) {
-      if (line == expected) return true;
-      if (line.rfind("ERR", 0) == 0) {
-        error = "the turntable refused '" + command.substr(0, command.size() - 1) +
-                "': " + line.substr(4);
-        return false;
-      }
-    }
-  }
-  error = "the turntable does not answer on " + table.path();
-  return false;
 }
 
 struct LinkSpeed {
@@ -183,16 +106,21 @@ void appendLine(Scan& scan, double beta, const std::vector<std::optional<double>
 
 Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turntable_port,
                             const AcquisitionOptions& options, const ProgressCallback& progress) {
+  SerialTurntable table(turntable_port);
+  return acquireRosiScan(lms_port, table, options, progress);
+}
+
+Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
+                            const AcquisitionOptions& options, const ProgressCallback& progress) {
   Acquisition result;
   result.scan.metadata.format = "rosi acquisition";
   result.scan.metadata.frame = "RoSi scanner frame: metres, z = turntable axis";
-  SerialPort lms(lms_port), table(turntable_port);
-  if (!lms.error().empty() || !table.error().empty()) {
-    result.error = !lms.error().empty() ? lms.error() : table.error();
+  SerialPort lms(lms_port);
+  if (!lms.error().empty() || !table.openError().empty()) {
+    result.error = !lms.error().empty() ? lms.error() : table.openError();
     return result;
   }
   lms200::Parser parser;
-  turntable::LineSplitter table_lines;
   const int timeout = options.answer_timeout_ms;
   const std::optional<LinkSpeed> link = linkSpeed(options.baud);
   if (!link) {
@@ -201,17 +129,23 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
     return result;
   }
   std::string& error = result.error;
+  // The laser: installation mode, its link speed, the 180 deg / 0.5 deg variant.
   if (!request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout, error) ||
       !request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error) ||
       !lms.setSpeed(link->speed) ||
-      !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) ||
-      !turntableCommand(table, table_lines, turntable::homeCommand(), timeout, error) ||
-      !turntableCommand(table, table_lines, turntable::speedCommand(options.turntable_speed_deg_s),
-                        timeout, error) ||
-      !turntableCommand(table, table_lines, turntable::startCommand(), timeout, error) ||
-      !request(lms, parser, lms200::changeOperatingMode(lms200::kModeContinuousOutput), 0xA0,
-               timeout, error))
+      !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error))
     return result;
+  // The table: home, speed, turn.
+  error = table.home(timeout);
+  if (error.empty()) error = table.setSpeed(options.turntable_speed_deg_s, timeout);
+  if (error.empty()) error = table.start(timeout);
+  if (!error.empty()) return result;
+  // And the laser's continuous output.
+  if (!request(lms, parser, lms200::changeOperatingMode(lms200::kModeContinuousOutput), 0xA0,
+               timeout, error)) {
+    table.stop();
+    return result;
+  }
 
   turntable::AngleTrack angles;
   std::deque<PendingLine> pending;
@@ -220,15 +154,11 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
   auto last_heard = Clock::now();
   bool done = false;
   while (!done) {
-    pollfd fds[2] = {{lms.fd(), POLLIN, 0}, {table.fd(), POLLIN, 0}};
+    pollfd fds[2] = {{lms.fd(), POLLIN, 0}, {table.descriptor(), POLLIN, 0}};
     ::poll(fds, 2, 20);
     const std::int64_t now = nowMicros();
-    if (fds[1].revents & POLLIN)
-      for (const std::string& line : table_lines.feed(table.readAvailable()))
-        if (const auto reply = turntable::parseReply(line);
-            reply && std::holds_alternative<turntable::AngleSample>(*reply))
-          angles.add(
-              {now, std::get<turntable::AngleSample>(*reply).angle_deg});  // the host's clock
+    for (const turntable::AngleSample& sample : table.readSamples(now))
+      angles.add(sample);
     if (fds[0].revents & POLLIN) {
       const std::string bytes = lms.readAvailable();
       for (const auto& event :
@@ -296,7 +226,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
   }
   // Stop the devices whatever happened; they may not answer any more.
   lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
-  table.send(turntable::stopCommand());
+  table.stop();
   return result;
 }
 

@@ -7,6 +7,7 @@
 
 #include "clearway/hardware/rosi_emulator.h"
 #include "clearway/hardware/serial_acquisition.h"
+#include "clearway/hardware/serial_turntable.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/rosi_simulator.h"
 
@@ -97,6 +98,39 @@ TEST(SerialAcquisition, RunsAt500kBaudAndRefusesSpeedsTheLms200DoesNotHave) {
   options.baud = 115200;
   const Acquisition wrong = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
   EXPECT_NE(wrong.error.find("cannot run at 115200"), std::string::npos) << wrong.error;
+}
+
+// Another controller behind the Turntable interface: it turns at 900 deg/s by the clock.
+class ClockTurntable : public Turntable {
+ public:
+  std::string openError() const override { return {}; }
+  std::string home(int) override { return {}; }
+  std::string setSpeed(double, int) override { return {}; }
+  std::string start(int) override {
+    started_ = std::chrono::steady_clock::now();
+    return {};
+  }
+  void stop() override { ++stops; }
+  int descriptor() const override { return -1; }
+  std::vector<turntable::AngleSample> readSamples(std::int64_t now_us) override {
+    const double seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
+    return {{now_us, std::fmod(900.0 * seconds, 360.0)}};
+  }
+  int stops = 0;
+
+ private:
+  std::chrono::steady_clock::time_point started_;
+};
+
+TEST(SerialAcquisition, AnotherTurntableControllerPlugsIn) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  ClockTurntable table;
+  const Acquisition acquisition = acquireRosiScan(emulator.lmsPort(), table);
+  ASSERT_TRUE(acquisition.complete) << acquisition.error;
+  EXPECT_GT(acquisition.scan.lines.size(), 100u);
+  EXPECT_NEAR(acquisition.scan.lines.back().beta, 2 * M_PI, 0.3);
+  EXPECT_EQ(table.stops, 1);
 }
 
 TEST(SerialAcquisition, NoDeviceIsAClearErrorNotAHang) {

@@ -39,4 +39,10 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
                             const AcquisitionOptions& options = {},
                             const ProgressCallback& progress = {});
 
+class Turntable;
+// The same with any turntable controller behind the Turntable interface.
+Acquisition acquireRosiScan(const std::string& lms_port, Turntable& turntable,
+                            const AcquisitionOptions& options = {},
+                            const ProgressCallback& progress = {});
+
 }  // namespace clearway::hardware
