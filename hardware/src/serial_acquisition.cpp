@@ -29,6 +29,19 @@ using detail::waitReadable;
 constexpr int kRosiPoints = 180;  // the half line alpha 0 .. 89.5 deg: LMS values 180 .. 359
 constexpr double kDeg = std::numbers::pi / 180.0;
 
+// Something answers on the laser's port, but never with an LMS200 telegram. Quote the first line
+// when it is text: the turntable's "ERR ..." there means the two cables are swapped.
+std::string wrongDeviceReason(const std::string& path, const std::string& bytes) {
+  std::string line;
+  for (const char c : bytes) {
+    if (c == '\n' && !line.empty()) break;
+    if (c >= 0x20 && c < 0x7f) line += c;
+  }
+  std::string reason = "the device on " + path + " answers, but not as an LMS200";
+  if (line.size() >= 3) reason += " (it says \"" + line.substr(0, 60) + "\")";
+  return reason + ": are the laser and turntable ports swapped?";
+}
+
 // Sends a request and waits for the scanner's ACK and its reply telegram with `reply_command`.
 std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
                                         const lms200::Bytes& telegram, std::uint8_t reply_command,
@@ -38,11 +51,15 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
     return std::nullopt;
   }
   const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
+  std::string unrecognised;  // what came back while no telegram did: tells a wrong device apart
+  bool any_telegram = false;
   while (Clock::now() < deadline) {
     if (!waitReadable(lms.fd(), 20)) continue;
     const std::string bytes = lms.readAvailable();
+    if (unrecognised.size() < 256) unrecognised += bytes;
     for (const auto& event :
          parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) {
+      any_telegram = any_telegram || event.kind != lms200::ParseEvent::Kind::kSkipped;
       if (event.kind == lms200::ParseEvent::Kind::kRefused) {
         error = "the laser scanner refused a command (NAK)";
         return std::nullopt;
@@ -52,7 +69,9 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
         return event.telegram;
     }
   }
-  error = "the laser scanner does not answer on " + lms.path() + " (is it connected and powered?)";
+  error = any_telegram || unrecognised.empty() ? "the laser scanner does not answer on " +
+                                                     lms.path() + " (is it connected and powered?)"
+                                               : wrongDeviceReason(lms.path(), unrecognised);
   return std::nullopt;
 }
 

@@ -133,6 +133,18 @@ TEST(SerialAcquisition, AnotherTurntableControllerPlugsIn) {
   EXPECT_EQ(table.stops, 1);
 }
 
+TEST(SerialAcquisition, SwappedCablesAreNamedAsSuch) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.answer_timeout_ms = 400;
+  const Acquisition acquisition =
+      acquireRosiScan(emulator.turntablePort(), emulator.lmsPort(), options);
+  EXPECT_FALSE(acquisition.complete);
+  EXPECT_NE(acquisition.error.find("not as an LMS200"), std::string::npos) << acquisition.error;
+  EXPECT_NE(acquisition.error.find("swapped"), std::string::npos) << acquisition.error;
+  EXPECT_TRUE(acquisition.scan.empty());
+}
+
 TEST(SerialAcquisition, NoDeviceIsAClearErrorNotAHang) {
   const Acquisition acquisition =
       acquireRosiScan("/dev/clearway-no-such-port", "/dev/clearway-no-table");
