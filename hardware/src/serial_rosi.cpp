@@ -6,10 +6,11 @@
 
 namespace clearway::hardware {
 
-SerialRosi::SerialRosi(QString lms_port, QString turntable_port, QObject* parent)
+SerialRosi::SerialRosi(QString lms_port, QString turntable_port, int baud, QObject* parent)
     : ScannerDevice(parent),
       lms_port_(std::move(lms_port)),
-      turntable_port_(std::move(turntable_port)) {}
+      turntable_port_(std::move(turntable_port)),
+      baud_(baud) {}
 
 SerialRosi::~SerialRosi() {
   *cancel_ = true;
@@ -21,7 +22,8 @@ void SerialRosi::join() {
 }
 
 QString SerialRosi::description() const {
-  return tr("RoSi on %1 (laser) and %2 (turntable)").arg(lms_port_, turntable_port_);
+  return tr("RoSi on %1 (laser, %2 baud) and %3 (turntable)")
+      .arg(lms_port_, QString::number(baud_), turntable_port_);
 }
 
 void SerialRosi::doConnect() {
@@ -45,6 +47,7 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
   *cancel_ = false;
   AcquisitionOptions options;
   options.lines = request.lines;
+  options.baud = baud_;
   if (request.turntable_speed_deg_s > 0)
     options.turntable_speed_deg_s = request.turntable_speed_deg_s;
   const int expected = request.lines > 0 ? request.lines : 300;

@@ -193,7 +193,10 @@ class ReviewAndExportTest : public QObject {
     panel.findChild<QLineEdit*>("turntablePort")
         ->setText(QString::fromStdString(emulator.turntablePort()));
     panel.findChild<QSpinBox*>("scanLines")->setValue(60);
+    auto* link_speed = panel.findChild<QComboBox*>("linkSpeed");
+    link_speed->setCurrentIndex(link_speed->findData(500000));
     auto* scan_button = panel.findChild<QPushButton*>("scanButton");
+    QSignalSpy status(&panel, &HardwarePanel::statusChanged);
     panel.connectScanner();
     QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
     QSignalSpy saved(&panel, &HardwarePanel::scanSaved);
@@ -204,6 +207,10 @@ class ReviewAndExportTest : public QObject {
     const clearway::Scan scan = clearway::loadScan(arguments.at(0).toString().toStdString());
     QCOMPARE(scan.lines.size(), std::size_t(60));
     QCOMPARE(scan.pointsPerLine(), std::size_t(180));
+    bool at_500k = false;
+    for (const auto& message : status)
+      at_500k |= message.at(0).toString().contains("500000 baud");
+    QVERIFY(at_500k);
   }
 
   void aMissingSerialPortIsNamedInWords() {

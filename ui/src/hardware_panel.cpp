@@ -32,6 +32,7 @@ struct HardwarePanel::Private {
   QProgressBar* progress = nullptr;
   QLineEdit* lms_port = nullptr;
   QLineEdit* turntable_port = nullptr;
+  QComboBox* link_speed = nullptr;
   std::unique_ptr<ScannerDevice> scanner;
   QString folder;
   double speedup = 8.0;
@@ -53,6 +54,15 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->turntable_port->setObjectName("turntablePort");
   form->addRow(tr("Laser port"), d_->lms_port);
   form->addRow(tr("Turntable port"), d_->turntable_port);
+  d_->link_speed = new QComboBox(this);
+  d_->link_speed->setObjectName("linkSpeed");
+  for (const int baud : {9600, 19200, 38400, 500000})
+    d_->link_speed->addItem(tr("%1 baud").arg(baud), baud);
+  d_->link_speed->setCurrentIndex(d_->link_speed->findData(38400));
+  d_->link_speed->setToolTip(
+      tr("The laser starts at 9600 baud and is switched to this speed; 500 kbaud needs an RS-422 "
+         "adapter that supports it"));
+  form->addRow(tr("Laser link"), d_->link_speed);
   d_->scene = new QComboBox(this);
   d_->scene->setObjectName("simulatedScene");
   for (const std::string& name : sim::builtinSceneNames())
@@ -108,8 +118,8 @@ void HardwarePanel::setSpeedup(double speedup) {
 
 void HardwarePanel::connectScanner() {
   if (d_->device->currentIndex() == 1) {
-    d_->scanner =
-        std::make_unique<hardware::SerialRosi>(d_->lms_port->text(), d_->turntable_port->text());
+    d_->scanner = std::make_unique<hardware::SerialRosi>(
+        d_->lms_port->text(), d_->turntable_port->text(), d_->link_speed->currentData().toInt());
   } else {
     auto simulated = std::make_unique<hardware::SimulatedRosi>(
         *sim::builtinScene(d_->scene->currentText().toStdString()));

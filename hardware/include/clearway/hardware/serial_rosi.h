@@ -17,7 +17,9 @@ class SerialRosi : public ScannerDevice {
   Q_OBJECT
 
  public:
-  SerialRosi(QString lms_port, QString turntable_port, QObject* parent = nullptr);
+  // `baud`: the link speed the LMS200 is switched to after setup (9600, 19200, 38400, 500000).
+  SerialRosi(QString lms_port, QString turntable_port, int baud = AcquisitionOptions{}.baud,
+             QObject* parent = nullptr);
   ~SerialRosi() override;  // cancels and waits for a running scan
 
   QString description() const override;
@@ -31,6 +33,7 @@ class SerialRosi : public ScannerDevice {
  private:
   void join();
   QString lms_port_, turntable_port_;
+  int baud_;
   std::thread worker_;
   std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
 };
