@@ -6,6 +6,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -214,9 +215,16 @@ struct RosiEmulator::Impl {
         writeAll(turntable_fd, sample.data(), sample.size());
         next_angle = now + std::chrono::duration_cast<Clock::duration>(angle_period);
       }
-      if (continuous && now >= next_line) {
+      // Lines keep the device's rate even when this loop wakes late (poll's granularity is
+      // coarser than a line at high speed-ups): the lines that are due are sent together, as a
+      // serial buffer would deliver them. After a long gap (a stall) the schedule starts afresh.
+      const auto line_step = std::chrono::duration_cast<Clock::duration>(line_period);
+      const Clock::duration resync_gap =
+          std::max<Clock::duration>(8 * line_step, std::chrono::milliseconds(100));
+      if (continuous && now - next_line > resync_gap) next_line = now;
+      while (continuous && now >= next_line) {
         sendLine();
-        next_line = now + std::chrono::duration_cast<Clock::duration>(line_period);
+        next_line += line_step;
       }
     }
   }

@@ -207,8 +207,13 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     while (!pending.empty()) {
       const auto angle = angles.angleAt(pending.front().time_us);
       if (!angle) {
-        if (angles.size() > 0 && pending.front().time_us < nowMicros() - 2'000'000)
+        // A line from before the table's first sample can never be tagged: drop it now rather
+        // than let it hold up the lines behind it. One after the last sample waits for the next.
+        if (angles.before(pending.front().time_us) ||
+            (angles.size() > 0 && pending.front().time_us < nowMicros() - 2'000'000)) {
           pending.pop_front();
+          continue;
+        }
         break;
       }
       if (!first_angle) first_angle = *angle;

@@ -58,13 +58,15 @@ std::vector<turntable::AngleSample> SerialTurntable::readSamples(std::int64_t no
   impl_->backlog.clear();
   for (std::string& line : impl_->lines.feed(impl_->serial.readAvailable()))
     lines.push_back(std::move(line));
-  std::vector<turntable::AngleSample> samples;
+  // Only the newest angle describes the table at `now_us` (the host's clock); older ones in the
+  // same read would be stamped too late.
+  std::optional<double> newest;
   for (const std::string& line : lines)
     if (const auto reply = turntable::parseReply(line);
         reply && std::holds_alternative<turntable::AngleSample>(*reply))
-      samples.push_back(
-          {now_us, std::get<turntable::AngleSample>(*reply).angle_deg});  // the host's clock
-  return samples;
+      newest = std::get<turntable::AngleSample>(*reply).angle_deg;
+  if (!newest) return {};
+  return {{now_us, *newest}};
 }
 
 }  // namespace clearway::hardware

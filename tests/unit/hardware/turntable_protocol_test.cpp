@@ -57,6 +57,11 @@ TEST(TurntableProtocol, AnglesAreInterpolatedAtLineTimesAcrossTheWrap) {
   EXPECT_NEAR(*track.angleAt(250'000), 362.5, 1e-9);
   EXPECT_FALSE(track.angleAt(-1));
   EXPECT_FALSE(track.angleAt(300'001));
+  // Before the first sample is never answerable; after the last may be, once the next arrives.
+  EXPECT_TRUE(track.before(-1));
+  EXPECT_FALSE(track.before(0));
+  EXPECT_FALSE(track.before(300'001));
+  EXPECT_FALSE(AngleTrack{}.before(0));
 }
 
 }  // namespace

@@ -62,6 +62,8 @@ class AngleTrack {
   // Unwrapped angle [deg] at `time_us`, or nullopt outside the sampled span.
   std::optional<double> angleAt(std::int64_t time_us) const;
   std::size_t size() const { return times_.size(); }
+  // True when `time_us` precedes every sample: no sample can ever give its angle.
+  bool before(std::int64_t time_us) const { return !times_.empty() && time_us < times_.front(); }
 
  private:
   std::vector<std::int64_t> times_;
