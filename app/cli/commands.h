@@ -15,5 +15,6 @@ int runEval(const std::vector<std::string>& words);
 int runSegment(const std::vector<std::string>& words);
 int runEmulate(const std::vector<std::string>& words);
 int runAcquire(const std::vector<std::string>& words);
+int runBench(const std::vector<std::string>& words);
 
 }  // namespace clearway::cli

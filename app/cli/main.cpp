@@ -34,6 +34,8 @@ constexpr const char* kUsage =
     "                                            an LMS200 + turntable on two pseudo-terminals\n"
     "  acquire --lms PORT --turntable PORT [--lines N] [--speed DEG_S] [--timeout MS] [--baud B]\n"
     "          -o SCAN.pcd                       one RoSi scan from the devices (or the emulator)\n"
+    "  bench SCAN... [--repeat N] [--threads T] [--json] [robot and --params options]\n"
+    "                                            time the pipeline: per-stage median and p95\n"
     "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
     "                                            score a segment result against the truth\n"
     "\n"
@@ -48,7 +50,7 @@ int main(int argc, char** argv) {
       {"info", clearway::cli::runInfo},       {"simulate", clearway::cli::runSimulate},
       {"scene", clearway::cli::runScene},     {"eval", clearway::cli::runEval},
       {"segment", clearway::cli::runSegment}, {"emulate", clearway::cli::runEmulate},
-      {"acquire", clearway::cli::runAcquire},
+      {"acquire", clearway::cli::runAcquire}, {"bench", clearway::cli::runBench},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;

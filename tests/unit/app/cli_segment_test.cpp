@@ -29,6 +29,44 @@ TEST(CliSegment, WritesTheResultFolderAndEvalScoresIt) {
   EXPECT_GT(scores.at("planes").at("recall").get<double>(), 0.8);
 }
 
+TEST(CliBench, TimesEveryStageOfEveryRun) {
+  test::TemporaryDirectory directory;
+  const auto scan = (directory / "g.pcd").string();
+  ASSERT_EQ(runCli("simulate garage --lines 60 -o " + shellQuote(scan)).exit_code, 0);
+  const auto result = runCli("bench " + shellQuote(scan) + " --repeat 5 --threads 1 --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto figures = nlohmann::json::parse(result.out);
+  EXPECT_EQ(figures.at("points"), 60 * 180);
+  EXPECT_EQ(figures.at("repeat"), 5);
+  EXPECT_EQ(figures.at("threads"), 1);
+  EXPECT_TRUE(figures.at("ground_found").get<bool>());
+  const double median = figures.at("median_ms").get<double>();
+  EXPECT_GT(median, 0.0);
+  EXPECT_GE(figures.at("p95_ms").get<double>(), median);
+  EXPECT_NEAR(figures.at("points_per_s").get<double>(), 60 * 180 / (median / 1000.0), 1.0);
+  const auto& stages = figures.at("stages");
+  ASSERT_TRUE(stages.contains("traversability")) << stages.dump();
+  ASSERT_TRUE(stages.contains("scene")) << stages.dump();
+  double stage_sum = 0.0;
+  for (const auto& stage : stages)
+    stage_sum += stage.at("median_ms").get<double>();
+  EXPECT_GT(stage_sum, 0.5 * median);  // the stages account for the run
+  // Two scans give one entry each.
+  const auto two =
+      runCli("bench " + shellQuote(scan) + " " + shellQuote(scan) + " --repeat 1 --json");
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+  EXPECT_EQ(nlohmann::json::parse(two.out).size(), 2u);
+}
+
+TEST(CliBench, BadInputsFailClearly) {
+  test::TemporaryDirectory directory;
+  EXPECT_EQ(runCli("bench").exit_code, 2);
+  EXPECT_EQ(runCli("bench x.pcd --repeat 0").exit_code, 2);
+  const auto missing = runCli("bench " + shellQuote((directory / "missing.pcd").string()));
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("missing.pcd"), std::string::npos) << missing.err;
+}
+
 TEST(CliSegment, BadInputsFailClearly) {
   test::TemporaryDirectory directory;
   const auto out = " -o " + shellQuote((directory / "out").string());

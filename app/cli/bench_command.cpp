@@ -1,0 +1,158 @@
+// clearway-cli bench: the whole pipeline, timed on scans already in memory (no file I/O in the
+// figures), after a warm-up run; medians and 95th percentiles per stage, throughput and the extra
+// memory a run needs beyond the loaded scan.
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "arguments.h"
+#include "clearway/io/scan_io.h"
+#include "clearway/pipeline.h"
+#include "commands.h"
+#include "robot_options.h"
+
+namespace clearway::cli {
+namespace {
+
+// The q-quantile of `values` by the nearest-rank rule (q = 0.5 is the median, 0.95 the p95).
+double quantile(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  const auto rank = std::size_t(std::ceil(q * double(values.size())));
+  return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
+}
+
+// A /proc/self/status field in kB, or -1 where /proc is not there.
+long statusKilobytes(const std::string& field) {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind(field + ":", 0) == 0) return std::stol(line.substr(field.size() + 1));
+  return -1;
+}
+
+// Resets the peak resident size to the current one, so the peak after the runs is theirs alone
+// and not the loader's. Returns false where the kernel does not allow it.
+bool resetPeakMemory() {
+  std::ofstream clear_refs("/proc/self/clear_refs");
+  clear_refs << "5";
+  return bool(clear_refs.flush());
+}
+
+struct BenchFigures {
+  std::string scan;
+  std::size_t points = 0;
+  int repeat = 0;
+  int threads = 0;
+  std::vector<std::string> stage_order;
+  std::map<std::string, std::vector<double>> stage_ms;
+  std::vector<double> total_ms;
+  long extra_kilobytes = -1;
+  bool trusted = false;
+
+  double median() const { return quantile(total_ms, 0.5); }
+  double p95() const { return quantile(total_ms, 0.95); }
+};
+
+BenchFigures benchScan(const std::filesystem::path& file, const SegmentationParams& params,
+                       int repeat, int threads) {
+  BenchFigures figures;
+  figures.scan = file.string();
+  figures.repeat = repeat;
+  figures.threads = threads;
+  const Scan scan = loadScan(file);
+  figures.points = scan.size();
+  figures.trusted = runPipeline(scan, params, threads).trusted();  // warm-up: caches, pool
+  const bool peak_reset = resetPeakMemory();
+  const long resident_before = statusKilobytes("VmRSS");
+  for (int run = 0; run < repeat; ++run) {
+    const PipelineResult result = runPipeline(scan, params, threads);
+    figures.total_ms.push_back(result.total_ms);
+    for (const StageTiming& stage : result.timings) {
+      if (!figures.stage_ms.count(stage.stage)) figures.stage_order.push_back(stage.stage);
+      figures.stage_ms[stage.stage].push_back(stage.milliseconds);
+    }
+  }
+  const long peak = statusKilobytes("VmHWM");
+  if (peak_reset && peak >= 0 && resident_before >= 0)
+    figures.extra_kilobytes = std::max(0L, peak - resident_before);
+  return figures;
+}
+
+nlohmann::json toJson(const BenchFigures& figures) {
+  nlohmann::json stages = nlohmann::json::object();
+  for (const std::string& name : figures.stage_order) {
+    const std::vector<double>& times = figures.stage_ms.at(name);
+    stages[name] = {{"median_ms", quantile(times, 0.5)}, {"p95_ms", quantile(times, 0.95)}};
+  }
+  nlohmann::json json = {{"scan", figures.scan},
+                         {"points", figures.points},
+                         {"repeat", figures.repeat},
+                         {"threads", figures.threads},
+                         {"ground_found", figures.trusted},
+                         {"median_ms", figures.median()},
+                         {"p95_ms", figures.p95()},
+                         {"points_per_s", double(figures.points) / (figures.median() / 1000.0)},
+                         {"stages", stages}};
+  if (figures.extra_kilobytes >= 0) {
+    json["extra_memory_mb"] = double(figures.extra_kilobytes) / 1024.0;
+    json["extra_bytes_per_point"] =
+        double(figures.extra_kilobytes) * 1024.0 / double(std::max<std::size_t>(1, figures.points));
+  }
+  return json;
+}
+
+void printTable(const BenchFigures& figures) {
+  std::cout << figures.scan << ": " << figures.points << " points, " << figures.repeat
+            << " runs after a warm-up, " << figures.threads << " threads"
+            << (figures.trusted ? "" : " (no ground found: the map is all untrusted)") << "\n";
+  std::cout << std::fixed << std::setprecision(2);
+  std::cout << "  " << std::left << std::setw(18) << "stage" << std::right << std::setw(10)
+            << "median ms" << std::setw(10) << "p95 ms"
+            << "\n";
+  for (const std::string& name : figures.stage_order) {
+    const std::vector<double>& times = figures.stage_ms.at(name);
+    std::cout << "  " << std::left << std::setw(18) << name << std::right << std::setw(10)
+              << quantile(times, 0.5) << std::setw(10) << quantile(times, 0.95) << "\n";
+  }
+  std::cout << "  " << std::left << std::setw(18) << "total" << std::right << std::setw(10)
+            << figures.median() << std::setw(10) << figures.p95() << "\n";
+  std::cout << std::setprecision(1) << "  " << double(figures.points) / figures.median() / 1000.0
+            << " M points/s";
+  if (figures.extra_kilobytes >= 0)
+    std::cout << ", extra memory " << double(figures.extra_kilobytes) / 1024.0 << " MB ("
+              << double(figures.extra_kilobytes) * 1024.0 /
+                     double(std::max<std::size_t>(1, figures.points))
+              << " B/point)";
+  std::cout << "\n";
+}
+
+}  // namespace
+
+int runBench(const std::vector<std::string>& words) {
+  const Arguments arguments(words, {"json"}, withRobotOptions({"repeat", "threads", "params"}));
+  if (arguments.positional().empty())
+    throw UsageError("one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T]");
+  const int repeat = int(arguments.integer("repeat", 20, 1, 100000));
+  const int threads = int(arguments.integer("threads", 2, 1, 64));
+  const SegmentationParams params = paramsFromArguments(arguments);
+
+  nlohmann::json all = nlohmann::json::array();
+  for (const std::string& file : arguments.positional()) {
+    const BenchFigures figures = benchScan(file, params, repeat, threads);
+    if (arguments.flag("json"))
+      all.push_back(toJson(figures));
+    else
+      printTable(figures);
+  }
+  if (arguments.flag("json")) std::cout << (all.size() == 1 ? all[0] : all).dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace clearway::cli
