@@ -58,6 +58,11 @@ struct BenchFigures {
 
   double median() const { return quantile(total_ms, 0.5); }
   double p95() const { return quantile(total_ms, 0.95); }
+  double pointsPerSecond() const { return double(points) / (median() / 1000.0); }
+  double extraMegabytes() const { return double(extra_kilobytes) / 1024.0; }
+  double extraBytesPerPoint() const {
+    return double(extra_kilobytes) * 1024.0 / double(std::max<std::size_t>(1, points));
+  }
 };
 
 BenchFigures benchScan(const std::filesystem::path& file, const SegmentationParams& params,
@@ -98,12 +103,11 @@ nlohmann::json toJson(const BenchFigures& figures) {
                          {"ground_found", figures.trusted},
                          {"median_ms", figures.median()},
                          {"p95_ms", figures.p95()},
-                         {"points_per_s", double(figures.points) / (figures.median() / 1000.0)},
+                         {"points_per_s", figures.pointsPerSecond()},
                          {"stages", stages}};
   if (figures.extra_kilobytes >= 0) {
-    json["extra_memory_mb"] = double(figures.extra_kilobytes) / 1024.0;
-    json["extra_bytes_per_point"] =
-        double(figures.extra_kilobytes) * 1024.0 / double(std::max<std::size_t>(1, figures.points));
+    json["extra_memory_mb"] = figures.extraMegabytes();
+    json["extra_bytes_per_point"] = figures.extraBytesPerPoint();
   }
   return json;
 }
@@ -123,13 +127,10 @@ void printTable(const BenchFigures& figures) {
   }
   std::cout << "  " << std::left << std::setw(18) << "total" << std::right << std::setw(10)
             << figures.median() << std::setw(10) << figures.p95() << "\n";
-  std::cout << std::setprecision(1) << "  " << double(figures.points) / figures.median() / 1000.0
-            << " M points/s";
+  std::cout << std::setprecision(1) << "  " << figures.pointsPerSecond() / 1e6 << " M points/s";
   if (figures.extra_kilobytes >= 0)
-    std::cout << ", extra memory " << double(figures.extra_kilobytes) / 1024.0 << " MB ("
-              << double(figures.extra_kilobytes) * 1024.0 /
-                     double(std::max<std::size_t>(1, figures.points))
-              << " B/point)";
+    std::cout << ", extra memory " << figures.extraMegabytes() << " MB ("
+              << figures.extraBytesPerPoint() << " B/point)";
   std::cout << "\n";
 }
 

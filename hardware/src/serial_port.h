@@ -48,6 +48,8 @@ class SerialPort {
   ~SerialPort() {
     if (fd_ >= 0) ::close(fd_);
   }
+  SerialPort(const SerialPort&) = delete;  // one owner closes the descriptor
+  SerialPort& operator=(const SerialPort&) = delete;
   const std::string& error() const { return error_; }
   // The LMS200 changes its speed after acknowledging the mode telegram; the port follows.
   bool setSpeed(speed_t speed) {
