@@ -9,24 +9,24 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "arguments.h"
+#include "bench_peers.h"
+#include "bench_timing.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
+#include "clearway/sim/ground_truth_io.h"
 #include "commands.h"
 #include "robot_options.h"
 
 namespace clearway::cli {
 namespace {
 
-// The q-quantile of `values` by the nearest-rank rule (q = 0.5 is the median, 0.95 the p95).
-double quantile(std::vector<double> values, double q) {
-  std::sort(values.begin(), values.end());
-  const auto rank = std::size_t(std::ceil(q * double(values.size())));
-  return values[std::clamp<std::size_t>(rank, 1, values.size()) - 1];
-}
+// The stage the traversability peer does the work of (StageTiming::stage).
+constexpr const char* kTraversabilityStage = "traversability";
 
 // A /proc/self/status field in kB, or -1 where /proc is not there.
 long statusKilobytes(const std::string& field) {
@@ -55,8 +55,14 @@ struct BenchFigures {
   std::vector<double> total_ms;
   long extra_kilobytes = -1;
   bool trusted = false;
+  std::optional<OwnAccuracy> accuracy;  // when the simulator's truth is beside the scan
+  std::vector<PeerFigures> peers;
 
   double median() const { return quantile(total_ms, 0.5); }
+  double stageMedian(const std::string& stage) const {
+    const auto times = stage_ms.find(stage);
+    return times == stage_ms.end() ? 0.0 : quantile(times->second, 0.5);
+  }
   double p95() const { return quantile(total_ms, 0.95); }
   double pointsPerSecond() const { return double(points) / (median() / 1000.0); }
   double extraMegabytes() const { return double(extra_kilobytes) / 1024.0; }
@@ -65,15 +71,25 @@ struct BenchFigures {
   }
 };
 
+// The simulator's truth for `file`, when it is beside it.
+std::optional<sim::GroundTruth> truthFor(const std::filesystem::path& file) {
+  const std::filesystem::path truth_file = sim::truthPathFor(file);
+  if (!std::filesystem::exists(truth_file)) return std::nullopt;
+  return sim::loadGroundTruth(truth_file);
+}
+
 BenchFigures benchScan(const std::filesystem::path& file, const SegmentationParams& params,
-                       int repeat, int threads) {
+                       int repeat, int threads, bool with_peers) {
   BenchFigures figures;
   figures.scan = file.string();
   figures.repeat = repeat;
   figures.threads = threads;
   const Scan scan = loadScan(file);
   figures.points = scan.size();
-  figures.trusted = runPipeline(scan, params, threads).trusted();  // warm-up: caches, pool
+  const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
+  figures.trusted = warm_up.trusted();
+  const std::optional<sim::GroundTruth> truth = truthFor(file);
+  if (truth) figures.accuracy = scoreOwnResult(*truth, warm_up);
   const bool peak_reset = resetPeakMemory();
   const long resident_before = statusKilobytes("VmRSS");
   for (int run = 0; run < repeat; ++run) {
@@ -87,6 +103,8 @@ BenchFigures benchScan(const std::filesystem::path& file, const SegmentationPara
   const long peak = statusKilobytes("VmHWM");
   if (peak_reset && peak >= 0 && resident_before >= 0)
     figures.extra_kilobytes = std::max(0L, peak - resident_before);
+  if (with_peers)
+    figures.peers = benchPeers(scan, warm_up, params, truth ? &*truth : nullptr, repeat, threads);
   return figures;
 }
 
@@ -108,6 +126,16 @@ nlohmann::json toJson(const BenchFigures& figures) {
   if (figures.extra_kilobytes >= 0) {
     json["extra_memory_mb"] = figures.extraMegabytes();
     json["extra_bytes_per_point"] = figures.extraBytesPerPoint();
+  }
+  if (figures.accuracy) {
+    json["accuracy"] = accuracyJson(figures.accuracy->planes);
+    json["map_accuracy"] = mapScoreJson(figures.accuracy->map);
+  }
+  if (!figures.peers.empty()) {
+    json["peers"] = nlohmann::json::object();
+    for (const PeerFigures& peer : figures.peers)
+      json["peers"][peer.name] =
+          peerJson(peer, figures.median(), figures.stageMedian(kTraversabilityStage));
   }
   return json;
 }
@@ -132,21 +160,34 @@ void printTable(const BenchFigures& figures) {
     std::cout << ", extra memory " << figures.extraMegabytes() << " MB ("
               << figures.extraBytesPerPoint() << " B/point)";
   std::cout << "\n";
+  if (figures.accuracy) {
+    const eval::SegmentationAccuracy& planes = figures.accuracy->planes;
+    std::cout << std::setprecision(2) << "  accuracy against the simulator's truth: plane recall "
+              << planes.planes.recall << ", precision " << planes.planes.precision
+              << ", purity " << planes.point_purity << ", normal error "
+              << planes.planes.mean_normal_error_deg << " deg; "
+              << figures.accuracy->map.false_traversable_cells << " false traversable of "
+              << figures.accuracy->map.traversable_cells << " cells\n";
+  }
+  if (!figures.peers.empty())
+    printPeers(figures.peers, figures.median(), figures.stageMedian(kTraversabilityStage));
 }
 
 }  // namespace
 
 int runBench(const std::vector<std::string>& words) {
-  const Arguments arguments(words, {"json"}, withRobotOptions({"repeat", "threads", "params"}));
+  const Arguments arguments(words, {"json", "peers"},
+                            withRobotOptions({"repeat", "threads", "params"}));
   if (arguments.positional().empty())
-    throw UsageError("one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T]");
+    throw UsageError(
+        "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers]");
   const int repeat = int(arguments.integer("repeat", 20, 1, 100000));
   const int threads = int(arguments.integer("threads", 2, 1, 64));
   const SegmentationParams params = paramsFromArguments(arguments);
 
   nlohmann::json all = nlohmann::json::array();
   for (const std::string& file : arguments.positional()) {
-    const BenchFigures figures = benchScan(file, params, repeat, threads);
+    const BenchFigures figures = benchScan(file, params, repeat, threads, arguments.flag("peers"));
     if (arguments.flag("json"))
       all.push_back(toJson(figures));
     else

@@ -34,7 +34,7 @@ constexpr const char* kUsage =
     "                                            an LMS200 + turntable on two pseudo-terminals\n"
     "  acquire --lms PORT --turntable PORT [--lines N] [--speed DEG_S] [--timeout MS] [--baud B]\n"
     "          -o SCAN.pcd                       one RoSi scan from the devices (or the emulator)\n"
-    "  bench SCAN... [--repeat N] [--threads T] [--json] [robot and --params options]\n"
+    "  bench SCAN... [--repeat N] [--threads T] [--peers] [--json] [robot and --params options]\n"
     "                                            time the pipeline: per-stage median and p95\n"
     "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
     "                                            score a segment result against the truth\n"

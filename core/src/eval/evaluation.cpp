@@ -37,6 +37,8 @@ std::array<ClassScore, kPointClassCount> scoreClasses(const sim::GroundTruth& tr
   return scores;
 }
 
+}  // namespace
+
 bool planesMatch(const sim::SurfaceTruth& surface, const ResultPlane& plane,
                  const EvaluationOptions& options, double& normal_error, double& offset_error) {
   // A plane and its flipped twin are the same plane.
@@ -86,9 +88,13 @@ PlaneScore scorePlanes(const sim::GroundTruth& truth, const std::vector<ResultPl
   return score;
 }
 
+namespace {
+
 bool isTraversable(std::uint8_t label) {
   return label == 1 || label == 2;
 }
+
+}  // namespace
 
 MapScore scoreMap(const sim::GroundTruth& truth, const SegmentationResult& result,
                   const EvaluationOptions& options) {
@@ -178,7 +184,20 @@ MapScore scoreMap(const sim::GroundTruth& truth, const SegmentationResult& resul
   return score;
 }
 
-}  // namespace
+ResultMap resultMapOf(const MapGrid& grid, const std::vector<std::uint8_t>& labels_bottom_up,
+                      const Eigen::Isometry3d& map_from_scanner) {
+  ResultMap map;
+  map.resolution = grid.resolution;
+  map.origin = grid.origin;
+  map.width = grid.width;
+  map.height = grid.height;
+  map.map_from_scanner = map_from_scanner;
+  map.labels.resize(labels_bottom_up.size());
+  for (int row = 0; row < grid.height; ++row)
+    std::copy_n(labels_bottom_up.begin() + std::ptrdiff_t(grid.index(0, row)), grid.width,
+                map.labels.begin() + std::ptrdiff_t(grid.index(0, grid.height - 1 - row)));
+  return map;
+}
 
 Evaluation evaluate(const sim::GroundTruth& truth, const SegmentationResult& result,
                     const EvaluationOptions& options) {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -56,6 +57,38 @@ TEST(CliBench, TimesEveryStageOfEveryRun) {
       runCli("bench " + shellQuote(scan) + " " + shellQuote(scan) + " --repeat 1 --json");
   ASSERT_EQ(two.exit_code, 0) << two.err;
   EXPECT_EQ(nlohmann::json::parse(two.out).size(), 2u);
+}
+
+TEST(CliBench, PeersRunOnTheSameScanAndAreScoredAgainstTheTruth) {
+  test::TemporaryDirectory directory;
+  const auto scan = (directory / "g.pcd").string();
+  ASSERT_EQ(runCli("simulate garage --lines 80 -o " + shellQuote(scan)).exit_code, 0);
+  const auto result = runCli("bench " + shellQuote(scan) + " --repeat 2 --peers --json");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto figures = nlohmann::json::parse(result.out);
+  // Our own result is scored too: the truth file lies beside the simulated scan.
+  EXPECT_GT(figures.at("accuracy").at("plane_recall").get<double>(), 0.5);
+  EXPECT_EQ(figures.at("map_accuracy").at("false_traversable_cells"), 0);
+  const auto& peers = figures.at("peers");
+  for (const char* name : {"pcl_organized_multiplane", "pcl_region_growing",
+                           "pcl_ransac_multiplane", "opencv_dilate_footprints"}) {
+    SCOPED_TRACE(name);
+    ASSERT_TRUE(peers.contains(name)) << peers.dump();
+    const auto& peer = peers.at(name);
+    EXPECT_GT(peer.at("median_ms").get<double>(), 0.0);
+    EXPECT_GE(peer.at("p95_ms").get<double>(), peer.at("median_ms").get<double>());
+    EXPECT_EQ(peer.at("runs"), 2);
+  }
+  EXPECT_GT(peers.at("pcl_ransac_multiplane").at("planes").get<int>(), 2);
+  EXPECT_GT(peers.at("pcl_ransac_multiplane").at("accuracy").at("point_purity").get<double>(),
+            0.8);
+  EXPECT_GT(peers.at("opencv_dilate_footprints").at("traversable_cells").get<int>(), 100);
+  EXPECT_TRUE(peers.at("opencv_dilate_footprints").contains("map_accuracy"));
+  // Without --peers there are none, and a scan without truth has no accuracy.
+  std::filesystem::remove(directory / "g.truth.json");
+  const auto plain = nlohmann::json::parse(runCli("bench " + shellQuote(scan) + " --repeat 1 --json").out);
+  EXPECT_FALSE(plain.contains("peers"));
+  EXPECT_FALSE(plain.contains("accuracy"));
 }
 
 TEST(CliBench, BadInputsFailClearly) {

@@ -75,18 +75,8 @@ TEST(GarageDoorSafety, NoCellIsShownTraversableWhereTheRobotCannotStand) {
     const auto run = test::simulateAndSegment("garage", 423, robot(width));
     eval::SegmentationResult result;
     result.robot = {width, 1.2, 1.5, 0.1};
-    result.map.resolution = run.result.map.grid.resolution;
-    result.map.origin = run.result.map.grid.origin;
-    result.map.width = run.result.map.grid.width;
-    result.map.height = run.result.map.grid.height;
-    result.map.map_from_scanner = run.result.analysis.map_from_scanner;
-    // evaluate() reads labels top row first, as labels.pgm stores them.
-    result.map.labels.resize(run.result.map.labels.size());
-    for (int row = 0; row < result.map.height; ++row)
-      for (int column = 0; column < result.map.width; ++column)
-        result.map.labels[std::size_t(result.map.height - 1 - row) * std::size_t(result.map.width) +
-                          std::size_t(column)] =
-            run.result.map.labels[run.result.map.grid.index(column, row)];
+    result.map = eval::resultMapOf(run.result.map.grid, run.result.map.labels,
+                                   run.result.analysis.map_from_scanner);
     result.has_map = true;
     const eval::Evaluation e = eval::evaluate(run.simulated.truth, result);
     EXPECT_GT(e.map.traversable_cells, 1000u);

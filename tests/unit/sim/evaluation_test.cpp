@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "clearway/eval/evaluation.h"
 #include "clearway/eval/robot_fit.h"
+#include "clearway/eval/segmentation_accuracy.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/ground_truth_io.h"
 #include "test_support.h"
@@ -155,6 +157,65 @@ TEST_F(Evaluate, BrokenResultFoldersAreRefused) {
   withMap(map, 0.85);
   test::writeBytes(directory_ / "labels.pgm", "P5\n160 60\n255\nshort");
   EXPECT_THROW(loadSegmentationResult(directory_.path()), std::runtime_error);
+}
+
+// Every planar truth surface as its own plane, its points assigned to it: the perfect segmentation.
+PointPlanes truthSegmentation(const sim::GroundTruth& truth) {
+  PointPlanes result;
+  result.point_plane.assign(truth.surfaces.size(), -1);
+  std::map<int, std::int32_t> plane_of_surface;
+  for (const sim::SurfaceTruth& surface : truth.seen_surfaces) {
+    if (!surface.planar) continue;
+    plane_of_surface[surface.id] = std::int32_t(result.planes.size());
+    result.planes.push_back({surface.normal, surface.offset, "other"});
+  }
+  for (std::size_t i = 0; i < truth.surfaces.size(); ++i) {
+    const auto plane = plane_of_surface.find(truth.surfaces[i]);
+    if (plane != plane_of_surface.end()) result.point_plane[i] = plane->second;
+  }
+  return result;
+}
+
+TEST_F(Evaluate, TheTruthItselfIsAPerfectSegmentation) {
+  const SegmentationAccuracy accuracy =
+      scoreSegmentation(simulated_.truth, truthSegmentation(simulated_.truth));
+  EXPECT_DOUBLE_EQ(accuracy.planes.recall, 1.0);
+  EXPECT_DOUBLE_EQ(accuracy.point_purity, 1.0);
+  EXPECT_DOUBLE_EQ(accuracy.coverage, 1.0);
+  EXPECT_GT(accuracy.assigned_points, simulated_.scan.validCount() / 2);
+}
+
+TEST_F(Evaluate, OnePlaneForEveryPointIsImpureAndRecallsOnlyItself) {
+  PointPlanes one = truthSegmentation(simulated_.truth);
+  // The plane of the truth surface with the most points takes every point.
+  const auto largest = std::max_element(
+      simulated_.truth.seen_surfaces.begin(), simulated_.truth.seen_surfaces.end(),
+      [](const auto& a, const auto& b) { return a.points < b.points; });
+  one.planes = {{largest->normal, largest->offset, "ground"}};
+  std::size_t with_surface = 0;
+  for (std::size_t i = 0; i < one.point_plane.size(); ++i) {
+    one.point_plane[i] = simulated_.truth.surfaces[i] >= 0 ? 0 : -1;
+    with_surface += simulated_.truth.surfaces[i] >= 0;
+  }
+  const SegmentationAccuracy accuracy = scoreSegmentation(simulated_.truth, one);
+  EXPECT_EQ(accuracy.assigned_points, with_surface);
+  // Pure are the largest surface's points and those of coplanar surfaces: far from all.
+  EXPECT_GE(accuracy.point_purity, double(largest->points) / double(with_surface) - 1e-9);
+  EXPECT_LT(accuracy.point_purity, 0.8);
+  EXPECT_LT(accuracy.planes.recall, 0.5);
+  EXPECT_DOUBLE_EQ(accuracy.planes.precision, 1.0);
+}
+
+TEST_F(Evaluate, SegmentationOfAnotherScanIsRefused) {
+  PointPlanes wrong = truthSegmentation(simulated_.truth);
+  wrong.point_plane.pop_back();
+  EXPECT_THROW(scoreSegmentation(simulated_.truth, wrong), std::invalid_argument);
+  PointPlanes dangling = truthSegmentation(simulated_.truth);
+  const auto first_point = std::find_if(simulated_.truth.surfaces.begin(),
+                                        simulated_.truth.surfaces.end(),
+                                        [](std::int32_t surface) { return surface >= 0; });
+  dangling.point_plane[std::size_t(first_point - simulated_.truth.surfaces.begin())] = 999;
+  EXPECT_THROW(scoreSegmentation(simulated_.truth, dangling), std::invalid_argument);
 }
 
 TEST(RobotFit, StepsAndLowObstaclesStopTheRobot) {

@@ -12,6 +12,7 @@
 #include <Eigen/Geometry>
 
 #include "clearway/point_class.h"
+#include "clearway/segmentation/scan_analysis.h"
 #include "clearway/sim/rosi_simulator.h"
 
 namespace clearway::eval {
@@ -99,6 +100,18 @@ struct Evaluation {
 
 Evaluation evaluate(const sim::GroundTruth& truth, const SegmentationResult& result,
                     const EvaluationOptions& options = {});
+
+// The parts of evaluate(), for results that are not in a folder (benchmarks, tests).
+bool planesMatch(const sim::SurfaceTruth& surface, const ResultPlane& plane,
+                 const EvaluationOptions& options, double& normal_error, double& offset_error);
+PlaneScore scorePlanes(const sim::GroundTruth& truth, const std::vector<ResultPlane>& planes,
+                       const EvaluationOptions& options = {});
+MapScore scoreMap(const sim::GroundTruth& truth, const SegmentationResult& result,
+                  const EvaluationOptions& options = {});
+
+// A map in memory (row 0 = smallest map y, as TraversabilityMap keeps it) as evaluate() reads it.
+ResultMap resultMapOf(const MapGrid& grid, const std::vector<std::uint8_t>& labels_bottom_up,
+                      const Eigen::Isometry3d& map_from_scanner);
 
 std::string toText(const Evaluation& evaluation);
 std::string toJson(const Evaluation& evaluation);
