@@ -9,8 +9,8 @@
 #include <iomanip>
 #include <iostream>
 #include <map>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 
 #include "arguments.h"
@@ -163,11 +163,10 @@ void printTable(const BenchFigures& figures) {
   if (figures.accuracy) {
     const eval::SegmentationAccuracy& planes = figures.accuracy->planes;
     std::cout << std::setprecision(2) << "  accuracy against the simulator's truth: plane recall "
-              << planes.planes.recall << ", precision " << planes.planes.precision
-              << ", purity " << planes.point_purity << ", normal error "
-              << planes.planes.mean_normal_error_deg << " deg; "
-              << figures.accuracy->map.false_traversable_cells << " false traversable of "
-              << figures.accuracy->map.traversable_cells << " cells\n";
+              << planes.planes.recall << ", precision " << planes.planes.precision << ", purity "
+              << planes.point_purity << ", normal error " << planes.planes.mean_normal_error_deg
+              << " deg; " << figures.accuracy->map.false_traversable_cells
+              << " false traversable of " << figures.accuracy->map.traversable_cells << " cells\n";
   }
   if (!figures.peers.empty())
     printPeers(figures.peers, figures.median(), figures.stageMedian(kTraversabilityStage));

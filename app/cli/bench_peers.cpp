@@ -57,8 +57,8 @@ PeerFigures benchDilatePeer(const PipelineResult& ours, const SegmentationParams
   }
   std::vector<std::uint8_t> labels;
   figures.milliseconds = timeRuns(runs, [&] {
-    labels = peers::dilateTraversability(ours.analysis, ours.robot, params.map, ours.map.yaws,
-                                         threads);
+    labels =
+        peers::dilateTraversability(ours.analysis, ours.robot, params.map, ours.map.yaws, threads);
   });
   figures.traversable_cells = traversableCells(labels);
   if (truth)
@@ -75,13 +75,13 @@ double ratio(double peer_ms, double own_ms) {
 
 OwnAccuracy scoreOwnResult(const sim::GroundTruth& truth, const PipelineResult& result) {
   return {eval::scoreSegmentation(truth, eval::pointPlanesOf(result.analysis)),
-          eval::scoreMap(truth, mapResult(result.map.grid, result.map.labels, result.analysis,
-                                          result.robot))};
+          eval::scoreMap(
+              truth, mapResult(result.map.grid, result.map.labels, result.analysis, result.robot))};
 }
 
 std::vector<PeerFigures> benchPeers(const Scan& scan, const PipelineResult& ours,
-                                    const SegmentationParams& params,
-                                    const sim::GroundTruth* truth, int repeat, int threads) {
+                                    const SegmentationParams& params, const sim::GroundTruth* truth,
+                                    int repeat, int threads) {
   const int runs = std::min(repeat, kMaxPeerRuns);
   std::vector<PeerFigures> figures;
   for (const peers::PlanePeer& peer : peers::planePeers())
@@ -136,7 +136,8 @@ void printPeers(const std::vector<PeerFigures>& peers, double own_total_ms, doub
   std::cout << "  peers (same scan, same threads; \"x ours\" = their median over our whole pipeline"
                " for planes, over our traversability stage for maps)\n";
   std::cout << "  " << std::left << std::setw(26) << "peer" << std::right << std::setw(11)
-            << "median ms" << std::setw(9) << "x ours" << "  accuracy\n";
+            << "median ms" << std::setw(9) << "x ours"
+            << "  accuracy\n";
   for (const PeerFigures& peer : peers) {
     std::cout << "  " << std::left << std::setw(26) << peer.name << std::right;
     if (!peer.skipped.empty()) {

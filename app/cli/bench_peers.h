@@ -20,10 +20,10 @@ struct PeerFigures {
   std::string replaces;  // the part of our pipeline it does: "planes" or "traversability"
   std::string skipped;   // why it did not run on this scan; empty when it ran
   std::vector<double> milliseconds;
-  std::size_t planes = 0;                                // plane peers
-  std::size_t traversable_cells = 0;                     // traversability peers
-  std::optional<eval::SegmentationAccuracy> accuracy;    // plane peers, with truth
-  std::optional<eval::MapScore> map_score;               // traversability peers, with truth
+  std::size_t planes = 0;                              // plane peers
+  std::size_t traversable_cells = 0;                   // traversability peers
+  std::optional<eval::SegmentationAccuracy> accuracy;  // plane peers, with truth
+  std::optional<eval::MapScore> map_score;             // traversability peers, with truth
 };
 
 // What our own pipeline's result scores against the truth.
@@ -35,8 +35,8 @@ OwnAccuracy scoreOwnResult(const sim::GroundTruth& truth, const PipelineResult& 
 
 // Peers run min(repeat, 5) times after a warm-up: the slowest take seconds per run.
 std::vector<PeerFigures> benchPeers(const Scan& scan, const PipelineResult& ours,
-                                    const SegmentationParams& params,
-                                    const sim::GroundTruth* truth, int repeat, int threads);
+                                    const SegmentationParams& params, const sim::GroundTruth* truth,
+                                    int repeat, int threads);
 
 nlohmann::json accuracyJson(const eval::SegmentationAccuracy& accuracy);
 nlohmann::json mapScoreJson(const eval::MapScore& score);

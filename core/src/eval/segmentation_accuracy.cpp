@@ -27,7 +27,8 @@ SegmentationAccuracy scoreSegmentation(const sim::GroundTruth& truth, const Poin
   // Whether truth surface s lies on result plane k, decided once per pair seen.
   std::unordered_map<std::uint64_t, bool> on_plane;
   auto lies_on = [&](int surface_id, std::int32_t plane) {
-    const std::uint64_t key = (std::uint64_t(std::uint32_t(surface_id)) << 32) | std::uint32_t(plane);
+    const std::uint64_t key =
+        (std::uint64_t(std::uint32_t(surface_id)) << 32) | std::uint32_t(plane);
     const auto known = on_plane.find(key);
     if (known != on_plane.end()) return known->second;
     const auto surface = surface_by_id.find(surface_id);

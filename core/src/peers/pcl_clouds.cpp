@@ -8,8 +8,8 @@
 namespace clearway::peers::detail {
 
 pcl::PointCloud<pcl::PointXYZ>::Ptr organisedCloud(const Scan& scan) {
-  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>(
-      std::uint32_t(scan.pointsPerLine()), std::uint32_t(scan.lines.size()));
+  auto cloud = std::make_shared<pcl::PointCloud<pcl::PointXYZ>>(std::uint32_t(scan.pointsPerLine()),
+                                                                std::uint32_t(scan.lines.size()));
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const Point3f& p = scan.points[i];
@@ -52,7 +52,8 @@ void addPlane(const pcl::PointCloud<pcl::PointXYZ>& cloud, const pcl::Indices& i
   const auto label = std::int32_t(result.planes.size());
   result.planes.push_back(plane);
   for (const pcl::index_t index : indices) {
-    const std::size_t scan_point = scan_index.empty() ? std::size_t(index) : scan_index[std::size_t(index)];
+    const std::size_t scan_point =
+        scan_index.empty() ? std::size_t(index) : scan_index[std::size_t(index)];
     result.point_plane[scan_point] = label;
   }
 }

@@ -80,13 +80,13 @@ TEST(CliBench, PeersRunOnTheSameScanAndAreScoredAgainstTheTruth) {
     EXPECT_EQ(peer.at("runs"), 2);
   }
   EXPECT_GT(peers.at("pcl_ransac_multiplane").at("planes").get<int>(), 2);
-  EXPECT_GT(peers.at("pcl_ransac_multiplane").at("accuracy").at("point_purity").get<double>(),
-            0.8);
+  EXPECT_GT(peers.at("pcl_ransac_multiplane").at("accuracy").at("point_purity").get<double>(), 0.8);
   EXPECT_GT(peers.at("opencv_dilate_footprints").at("traversable_cells").get<int>(), 100);
   EXPECT_TRUE(peers.at("opencv_dilate_footprints").contains("map_accuracy"));
   // Without --peers there are none, and a scan without truth has no accuracy.
   std::filesystem::remove(directory / "g.truth.json");
-  const auto plain = nlohmann::json::parse(runCli("bench " + shellQuote(scan) + " --repeat 1 --json").out);
+  const auto plain =
+      nlohmann::json::parse(runCli("bench " + shellQuote(scan) + " --repeat 1 --json").out);
   EXPECT_FALSE(plain.contains("peers"));
   EXPECT_FALSE(plain.contains("accuracy"));
 }

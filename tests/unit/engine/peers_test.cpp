@@ -34,7 +34,8 @@ TEST(PlanePeers, EachFindsTheGaragePlanesOnTheirTrueSurfaces) {
     ASSERT_TRUE(peer.unsuitable(scan).empty()) << peer.unsuitable(scan);
     const eval::PointPlanes result = peer.run(scan, 2);
     ASSERT_EQ(result.point_plane.size(), scan.size());
-    const eval::SegmentationAccuracy accuracy = eval::scoreSegmentation(run.simulated.truth, result);
+    const eval::SegmentationAccuracy accuracy =
+        eval::scoreSegmentation(run.simulated.truth, result);
     EXPECT_GE(accuracy.planes.recall, 0.6);
     EXPECT_GT(accuracy.point_purity, 0.9);
     EXPECT_GT(accuracy.coverage, 0.3);
@@ -96,16 +97,16 @@ TEST(TraversabilityPeer, FitsTheRobotOnlyOnObservedFreeGroundAndNotWhenTooWide) 
   const auto wide =
       peers::dilateTraversability(analysis, robotOfWidth(1.6), MapParams{}, run.result.map.yaws, 2);
   EXPECT_LT(countLabel(wide, CellLabel::kTraversable), fits);
-  const auto huge =
-      peers::dilateTraversability(analysis, robotOfWidth(30.0), MapParams{}, run.result.map.yaws, 2);
+  const auto huge = peers::dilateTraversability(analysis, robotOfWidth(30.0), MapParams{},
+                                                run.result.map.yaws, 2);
   EXPECT_EQ(countLabel(huge, CellLabel::kTraversable), 0u);
 }
 
 TEST(TraversabilityPeer, WithoutGroundNothingIsTraversable) {
   const auto run = test::simulateAndSegment("no-ground", 80);
   ASSERT_FALSE(run.result.analysis.ground_found);
-  const auto labels = peers::dilateTraversability(run.result.analysis, RobotParams{}, MapParams{},
-                                                  {0.0}, 2);
+  const auto labels =
+      peers::dilateTraversability(run.result.analysis, RobotParams{}, MapParams{}, {0.0}, 2);
   EXPECT_EQ(countLabel(labels, CellLabel::kTraversable), 0u);
 }
 

@@ -188,9 +188,9 @@ TEST_F(Evaluate, TheTruthItselfIsAPerfectSegmentation) {
 TEST_F(Evaluate, OnePlaneForEveryPointIsImpureAndRecallsOnlyItself) {
   PointPlanes one = truthSegmentation(simulated_.truth);
   // The plane of the truth surface with the most points takes every point.
-  const auto largest = std::max_element(
-      simulated_.truth.seen_surfaces.begin(), simulated_.truth.seen_surfaces.end(),
-      [](const auto& a, const auto& b) { return a.points < b.points; });
+  const auto largest =
+      std::max_element(simulated_.truth.seen_surfaces.begin(), simulated_.truth.seen_surfaces.end(),
+                       [](const auto& a, const auto& b) { return a.points < b.points; });
   one.planes = {{largest->normal, largest->offset, "ground"}};
   std::size_t with_surface = 0;
   for (std::size_t i = 0; i < one.point_plane.size(); ++i) {
@@ -211,9 +211,9 @@ TEST_F(Evaluate, SegmentationOfAnotherScanIsRefused) {
   wrong.point_plane.pop_back();
   EXPECT_THROW(scoreSegmentation(simulated_.truth, wrong), std::invalid_argument);
   PointPlanes dangling = truthSegmentation(simulated_.truth);
-  const auto first_point = std::find_if(simulated_.truth.surfaces.begin(),
-                                        simulated_.truth.surfaces.end(),
-                                        [](std::int32_t surface) { return surface >= 0; });
+  const auto first_point =
+      std::find_if(simulated_.truth.surfaces.begin(), simulated_.truth.surfaces.end(),
+                   [](std::int32_t surface) { return surface >= 0; });
   dangling.point_plane[std::size_t(first_point - simulated_.truth.surfaces.begin())] = 999;
   EXPECT_THROW(scoreSegmentation(simulated_.truth, dangling), std::invalid_argument);
 }
