@@ -2,6 +2,7 @@
 // figures), after a warm-up run; medians and 95th percentiles per stage, throughput and the extra
 // memory a run needs beyond the loaded scan.
 
+#include <malloc.h>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -25,9 +26,6 @@
 namespace clearway::cli {
 namespace {
 
-// The stage the traversability peer does the work of (StageTiming::stage).
-constexpr const char* kTraversabilityStage = "traversability";
-
 // A /proc/self/status field in kB, or -1 where /proc is not there.
 long statusKilobytes(const std::string& field) {
   std::ifstream status("/proc/self/status");
@@ -37,9 +35,12 @@ long statusKilobytes(const std::string& field) {
   return -1;
 }
 
-// Resets the peak resident size to the current one, so the peak after the runs is theirs alone
-// and not the loader's. Returns false where the kernel does not allow it.
+// Returns freed memory to the system and resets the peak resident size to the current one, so the
+// peak after the runs is theirs alone and not the loader's. Returns false where the kernel does not
+// allow it.
 bool resetPeakMemory() {
+  // Freed heap pages of earlier scans would otherwise stay resident and hide this scan's needs.
+  malloc_trim(0);
   std::ofstream clear_refs("/proc/self/clear_refs");
   clear_refs << "5";
   return bool(clear_refs.flush());
@@ -59,9 +60,20 @@ struct BenchFigures {
   std::vector<PeerFigures> peers;
 
   double median() const { return quantile(total_ms, 0.5); }
-  double stageMedian(const std::string& stage) const {
-    const auto times = stage_ms.find(stage);
-    return times == stage_ms.end() ? 0.0 : quantile(times->second, 0.5);
+  // The median over runs of the summed time of `stages`.
+  double stagesMedian(std::initializer_list<const char*> stages) const {
+    std::vector<double> sums(total_ms.size(), 0.0);
+    for (const char* stage : stages) {
+      const auto times = stage_ms.find(stage);
+      if (times == stage_ms.end()) continue;
+      for (std::size_t run = 0; run < sums.size() && run < times->second.size(); ++run)
+        sums[run] += times->second[run];
+    }
+    return sums.empty() ? 0.0 : quantile(sums, 0.5);
+  }
+  OwnTimes ownTimes() const {
+    return {median(), stagesMedian({"lines", "clustering", "validation", "ground"}),
+            stagesMedian({"traversability"})};
   }
   double p95() const { return quantile(total_ms, 0.95); }
   double pointsPerSecond() const { return double(points) / (median() / 1000.0); }
@@ -134,8 +146,7 @@ nlohmann::json toJson(const BenchFigures& figures) {
   if (!figures.peers.empty()) {
     json["peers"] = nlohmann::json::object();
     for (const PeerFigures& peer : figures.peers)
-      json["peers"][peer.name] =
-          peerJson(peer, figures.median(), figures.stageMedian(kTraversabilityStage));
+      json["peers"][peer.name] = peerJson(peer, figures.ownTimes());
   }
   return json;
 }
@@ -164,12 +175,14 @@ void printTable(const BenchFigures& figures) {
     const eval::SegmentationAccuracy& planes = figures.accuracy->planes;
     std::cout << std::setprecision(2) << "  accuracy against the simulator's truth: plane recall "
               << planes.planes.recall << ", precision " << planes.planes.precision << ", purity "
-              << planes.point_purity << ", normal error " << planes.planes.mean_normal_error_deg
-              << " deg; " << figures.accuracy->map.false_traversable_cells
-              << " false traversable of " << figures.accuracy->map.traversable_cells << " cells\n";
+              << planes.point_purity << ", coverage " << planes.coverage << ", normal error "
+              << planes.planes.mean_normal_error_deg << " deg; "
+              << figures.accuracy->map.false_traversable_cells << " false traversable of "
+              << figures.accuracy->map.traversable_cells << " cells, "
+              << wrongPlacePairs(figures.accuracy->map) << " of "
+              << figures.accuracy->map.places.size() << " place pairs wrong\n";
   }
-  if (!figures.peers.empty())
-    printPeers(figures.peers, figures.median(), figures.stageMedian(kTraversabilityStage));
+  if (!figures.peers.empty()) printPeers(figures.peers, figures.ownTimes());
 }
 
 }  // namespace

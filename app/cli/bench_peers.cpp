@@ -99,10 +99,14 @@ nlohmann::json accuracyJson(const eval::SegmentationAccuracy& accuracy) {
           {"coverage", accuracy.coverage}};
 }
 
+std::size_t wrongPlacePairs(const eval::MapScore& score) {
+  return std::size_t(
+      std::count_if(score.places.begin(), score.places.end(),
+                    [](const eval::PlaceCheck& p) { return p.expected != p.found; }));
+}
+
 nlohmann::json mapScoreJson(const eval::MapScore& score) {
-  std::size_t places_wrong = 0;
-  for (const eval::PlaceCheck& place : score.places)
-    places_wrong += place.expected != place.found;
+  const std::size_t places_wrong = wrongPlacePairs(score);
   return {{"traversable_cells", score.traversable_cells},
           {"false_traversable_cells", score.false_traversable_cells},
           {"false_traversable_rate", score.false_traversable_rate},
@@ -110,7 +114,7 @@ nlohmann::json mapScoreJson(const eval::MapScore& score) {
           {"place_pairs_wrong", places_wrong}};
 }
 
-nlohmann::json peerJson(const PeerFigures& peer, double own_total_ms, double own_map_ms) {
+nlohmann::json peerJson(const PeerFigures& peer, const OwnTimes& own) {
   nlohmann::json json = {{"replaces", peer.replaces}};
   if (!peer.skipped.empty()) {
     json["skipped"] = peer.skipped;
@@ -122,19 +126,20 @@ nlohmann::json peerJson(const PeerFigures& peer, double own_total_ms, double own
   json["runs"] = peer.milliseconds.size();
   if (peer.replaces == kPlanes) {
     json["planes"] = peer.planes;
-    json["times_our_total"] = ratio(median, own_total_ms);
+    json["times_our_planes"] = ratio(median, own.planes);
+    json["times_our_total"] = ratio(median, own.total);
   } else {
     json["traversable_cells"] = peer.traversable_cells;
-    json["times_our_traversability"] = ratio(median, own_map_ms);
+    json["times_our_traversability"] = ratio(median, own.traversability);
   }
   if (peer.accuracy) json["accuracy"] = accuracyJson(*peer.accuracy);
   if (peer.map_score) json["map_accuracy"] = mapScoreJson(*peer.map_score);
   return json;
 }
 
-void printPeers(const std::vector<PeerFigures>& peers, double own_total_ms, double own_map_ms) {
-  std::cout << "  peers (same scan, same threads; \"x ours\" = their median over our whole pipeline"
-               " for planes, over our traversability stage for maps)\n";
+void printPeers(const std::vector<PeerFigures>& peers, const OwnTimes& own) {
+  std::cout << "  peers (same scan, same threads; \"x ours\" = their median over ours for the same"
+               " work: stages 1-4 for planes, stage 5 for maps)\n";
   std::cout << "  " << std::left << std::setw(26) << "peer" << std::right << std::setw(11)
             << "median ms" << std::setw(9) << "x ours"
             << "  accuracy\n";
@@ -145,18 +150,20 @@ void printPeers(const std::vector<PeerFigures>& peers, double own_total_ms, doub
       continue;
     }
     const double median = quantile(peer.milliseconds, 0.5);
-    const double own = peer.replaces == kPlanes ? own_total_ms : own_map_ms;
+    const double reference = peer.replaces == kPlanes ? own.planes : own.traversability;
     std::cout << std::fixed << std::setprecision(1) << std::setw(11) << median << std::setw(9)
-              << ratio(median, own) << "  ";
+              << ratio(median, reference) << "  ";
     if (peer.replaces == kPlanes) std::cout << peer.planes << " planes";
     if (peer.replaces == kTraversability) std::cout << peer.traversable_cells << " cells fit";
     if (peer.accuracy)
       std::cout << std::setprecision(2) << ", recall " << peer.accuracy->planes.recall
                 << ", precision " << peer.accuracy->planes.precision << ", purity "
-                << peer.accuracy->point_purity << ", normal error "
-                << peer.accuracy->planes.mean_normal_error_deg << " deg";
+                << peer.accuracy->point_purity << ", coverage " << peer.accuracy->coverage
+                << ", normal error " << peer.accuracy->planes.mean_normal_error_deg << " deg";
     if (peer.map_score)
-      std::cout << ", " << peer.map_score->false_traversable_cells << " false traversable";
+      std::cout << ", " << peer.map_score->false_traversable_cells << " false traversable, "
+                << wrongPlacePairs(*peer.map_score) << " of " << peer.map_score->places.size()
+                << " place pairs wrong";
     std::cout << "\n";
   }
 }

@@ -40,9 +40,17 @@ std::vector<PeerFigures> benchPeers(const Scan& scan, const PipelineResult& ours
 
 nlohmann::json accuracyJson(const eval::SegmentationAccuracy& accuracy);
 nlohmann::json mapScoreJson(const eval::MapScore& score);
-nlohmann::json peerJson(const PeerFigures& peer, double own_total_ms, double own_map_ms);
-// One table row per peer, with how many times slower than our whole pipeline (plane peers) or
-// our traversability stage (traversability peers) it is.
-void printPeers(const std::vector<PeerFigures>& peers, double own_total_ms, double own_map_ms);
+// Place pairs whose reachability the map gets wrong.
+std::size_t wrongPlacePairs(const eval::MapScore& score);
+// Our medians the peers are compared with [ms].
+struct OwnTimes {
+  double total = 0.0;           // the whole pipeline
+  double planes = 0.0;          // lines, clustering, validation and ground: what plane peers do
+  double traversability = 0.0;  // the traversability stage: what the map peer does
+};
+
+nlohmann::json peerJson(const PeerFigures& peer, const OwnTimes& own);
+// One table row per peer, with how many times slower than the same work in our pipeline it is.
+void printPeers(const std::vector<PeerFigures>& peers, const OwnTimes& own);
 
 }  // namespace clearway::cli
