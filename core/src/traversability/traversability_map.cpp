@@ -37,10 +37,30 @@ std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
   for (int dy = -reach; dy <= reach; ++dy)
     for (int dx = -reach; dx <= reach; ++dx)
       if (std::abs(dx * c + dy * s) <= along && std::abs(-dx * s + dy * c) <= across)
-        offsets.push_back({dx, dy, float(std::hypot(dx, dy))});
+        offsets.push_back({dx, dy, float(dx * dx + dy * dy)});
+  // Sorted by squared radius (exact integers), then turned into radii.
   std::sort(offsets.begin(), offsets.end(),
             [](const Offset& a, const Offset& b) { return a.radius < b.radius; });
+  for (Offset& o : offsets)
+    o.radius = std::sqrt(o.radius);
   return offsets;
+}
+
+// The offsets of `outer` that are not in `inner` (both from rectangleOffsets), still sorted.
+std::vector<Offset> ringOffsets(const std::vector<Offset>& outer,
+                                const std::vector<Offset>& inner) {
+  int reach = 0;
+  for (const Offset& o : outer)
+    reach = std::max({reach, std::abs(o.dx), std::abs(o.dy)});
+  const int side = 2 * reach + 1;
+  std::vector<std::uint8_t> in_inner(std::size_t(side * side), 0);
+  for (const Offset& o : inner)
+    if (std::abs(o.dx) <= reach && std::abs(o.dy) <= reach)
+      in_inner[std::size_t((o.dy + reach) * side + o.dx + reach)] = 1;
+  std::vector<Offset> ring;
+  for (const Offset& o : outer)
+    if (!in_inner[std::size_t((o.dy + reach) * side + o.dx + reach)]) ring.push_back(o);
+  return ring;
 }
 
 // Offsets are sorted by radius: the first one at or beyond `radius`.
@@ -54,7 +74,9 @@ struct Footprints {
   // Nominal less 1.2 cells on every side: a blocked cell centre in here blocks the robot wherever
   // its centre is in the cell (0.4 cells) and wherever the cell's points are (0.71 cells).
   std::vector<std::vector<Offset>> core;
-  std::vector<std::vector<Offset>> reach;  // every cell that may hold a point inside the box
+  // Every cell that may hold a point inside the box, less the core (the exact check has cleared
+  // the core before it looks at these).
+  std::vector<std::vector<Offset>> rim;
   std::vector<double> yaw;
   double inner_radius = 0.0;  // cells: inside this the box is blocked in every orientation
   double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
@@ -84,19 +106,25 @@ std::vector<double> orientationsToTry(const ScanAnalysis& analysis, int uniform)
 }
 
 Footprints makeFootprints(const RobotParams& robot, const MapParams& params,
-                          const std::vector<double>& yaws) {
+                          const std::vector<double>& yaws, int threads) {
   Footprints f;
   const double along = robot.length / 2 / params.resolution,
                across = robot.width / 2 / params.resolution;
-  for (double yaw : yaws) {
-    f.yaw.push_back(yaw);
-    f.enlarged.push_back(rectangleOffsets(along + 0.5, across + 0.5, yaw));
-    f.core.push_back(
-        rectangleOffsets(std::max(0.0, along - 1.2), std::max(0.0, across - 1.2), yaw));
-    // A cell's points lie within half a diagonal (0.71 cells) of its centre, and the exact check
-    // moves the robot's centre up to 0.4 cells: every cell within 1.3 cells may matter.
-    f.reach.push_back(rectangleOffsets(along + 1.3, across + 1.3, yaw));
-  }
+  f.yaw = yaws;
+  f.enlarged.resize(yaws.size());
+  f.core.resize(yaws.size());
+  f.rim.resize(yaws.size());
+  detail::parallelChunks(
+      yaws.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t k = begin; k < end; ++k) {
+          f.enlarged[k] = rectangleOffsets(along + 0.5, across + 0.5, yaws[k]);
+          f.core[k] =
+              rectangleOffsets(std::max(0.0, along - 1.2), std::max(0.0, across - 1.2), yaws[k]);
+          // A cell's points lie within half a diagonal (0.71 cells) of its centre, and the exact
+          // check moves the robot's centre up to 0.4 cells: every cell within 1.3 cells may matter.
+          f.rim[k] = ringOffsets(rectangleOffsets(along + 1.3, across + 1.3, yaws[k]), f.core[k]);
+        }
+      });
   f.inner_radius = across;
   f.outer_radius = std::hypot(along + 0.5, across + 0.5);
   return f;
@@ -166,15 +194,25 @@ class FootprintTester {
     const double yaw = footprints_.yaw[std::size_t(orientation)];
     const double c = std::cos(yaw), s = std::sin(yaw);
     const Eigen::Vector2d centre = grid_.centre(column, row);
+    const double half_length = robot_.length / 2, half_width = robot_.width / 2;
+    const double step = grid_.resolution / 5.0;
+    // The 5 x 5 centres lie within `shift` of the cell's centre along u and along v. An item
+    // closer than that to the box's inside blocks every one of them (the box cannot fit: stop
+    // gathering); one farther than that beyond its edge blocks none (leave it out).
+    const double shift = 2 * step * (std::abs(c) + std::abs(s));
     thread_local std::vector<Eigen::Vector2d> items;
     items.clear();
+    bool blocks_every_centre = false;
     auto add = [&](double x, double y) {
       const double dx = x - centre.x(), dy = y - centre.y();
+      const double u = std::abs(dx * c + dy * s), v = std::abs(-dx * s + dy * c);
+      if (u >= half_length + shift || v >= half_width + shift) return;
+      if (u < half_length - shift && v < half_width - shift) blocks_every_centre = true;
       items.emplace_back(dx * c + dy * s, -dx * s + dy * c);
     };
     // Offsets nearer than the clearance are passable: the distance transform vouches for them.
-    const auto& reach = footprints_.reach[std::size_t(orientation)];
-    for (auto o = firstBeyond(reach, lenient_clearance_.at<float>(row, column)); o != reach.end();
+    const auto& rim = footprints_.rim[std::size_t(orientation)];
+    for (auto o = firstBeyond(rim, lenient_clearance_.at<float>(row, column)); o != rim.end();
          ++o) {
       const int cc = column + o->dx, rr = row + o->dy;
       const std::uint8_t code = lenientCode(cc, rr);
@@ -187,9 +225,8 @@ class FootprintTester {
         const Eigen::Vector2d other = grid_.centre(cc, rr);
         add(other.x(), other.y());
       }
+      if (blocks_every_centre) return false;
     }
-    const double half_length = robot_.length / 2, half_width = robot_.width / 2;
-    const double step = grid_.resolution / 5.0;
     static constexpr int kOrder[5] = {0, -1, 1, -2, 2};
     for (int sy : kOrder)
       for (int sx : kOrder) {
@@ -334,7 +371,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   lenient_clearance -= 1.0F;
 
   map.yaws = orientationsToTry(analysis, params.orientations);
-  const Footprints footprints = makeFootprints(robot, grid_params, map.yaws);
+  const Footprints footprints = makeFootprints(robot, grid_params, map.yaws, threads);
   const int orientations = int(map.yaws.size());
   const FootprintTester tester(map.grid, classes, clearance, lenient_clearance, tolerated,
                                footprints, robot);
