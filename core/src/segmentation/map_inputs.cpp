@@ -122,27 +122,45 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
     inputs.ground_height[cell] = float(analysis.planeHeight(plane, centre.x(), centre.y()));
   };
 
+  // Each valid point's cell, once (two halves in parallel).
+  std::vector<Eigen::Vector2i> cell_of(scan.size(), Eigen::Vector2i::Zero());
+  detail::parallelChunks(scan.size(), 2, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t i = begin; i < end; ++i)
+      if (scan.isValid(i)) cell_of[i] = grid.cellOf(mapped[i].x(), mapped[i].y());
+  });
+
   // Cells holding ground points, then the cells the ground triangles cover.
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (ground_of[i] < 0) continue;
-    const Eigen::Vector2i cell = grid.cellOf(mapped[i].x(), mapped[i].y());
-    markGround(cell.x(), cell.y(), ground_of[i]);
-  }
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (ground_of[i] >= 0) markGround(cell_of[i].x(), cell_of[i].y(), ground_of[i]);
   inputs.ground_triangles = groundTriangles(scan, ground_of, params.map.max_triangle_edge);
-  // The triangles' cells, each thread owning half of the grid's rows (no cell is written twice).
+  // Most triangles lie within two neighbouring cells, which their corners have marked already;
+  // only the larger ones are filled (two halves of the list in parallel).
+  std::vector<std::vector<std::uint32_t>> large_parts(2);
+  detail::parallelChunks(
+      inputs.ground_triangles.size(), 2, [&](std::size_t begin, std::size_t end, std::size_t part) {
+        for (std::size_t t = begin; t < end; ++t) {
+          const auto& triangle = inputs.ground_triangles[t];
+          const Eigen::Vector2i &a = cell_of[triangle[0]], &b = cell_of[triangle[1]],
+                                &c = cell_of[triangle[2]];
+          const Eigen::Vector2i span = a.cwiseMax(b).cwiseMax(c) - a.cwiseMin(b).cwiseMin(c);
+          if (span.maxCoeff() > 1 || span.minCoeff() > 0)
+            large_parts[part].push_back(std::uint32_t(t));
+        }
+      });
+  std::vector<std::uint32_t> large = std::move(large_parts[0]);
+  large.insert(large.end(), large_parts[1].begin(), large_parts[1].end());
+  // Their cells, each thread owning half of the grid's rows (no cell is written twice).
   detail::parallelChunks(
       std::size_t(grid.height), 2, [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
-        for (const auto& triangle : inputs.ground_triangles) {
+        for (const std::uint32_t t : large) {
+          const auto& triangle = inputs.ground_triangles[t];
           const Eigen::Vector2d a = mapped[triangle[0]].head<2>(),
                                 b = mapped[triangle[1]].head<2>(),
                                 c = mapped[triangle[2]].head<2>();
           const Eigen::Vector2i low =
-              grid.cellOf(std::min({a.x(), b.x(), c.x()}), std::min({a.y(), b.y(), c.y()}));
+              cell_of[triangle[0]].cwiseMin(cell_of[triangle[1]]).cwiseMin(cell_of[triangle[2]]);
           const Eigen::Vector2i high =
-              grid.cellOf(std::max({a.x(), b.x(), c.x()}), std::max({a.y(), b.y(), c.y()}));
-          // Within two neighbouring cells its corners marked it already.
-          if ((high - low).cwiseAbs().maxCoeff() <= 1 && (high - low).cwiseAbs().minCoeff() == 0)
-            continue;
+              cell_of[triangle[0]].cwiseMax(cell_of[triangle[1]]).cwiseMax(cell_of[triangle[2]]);
           // Scanline fill: per row, the triangle's x-interval at the row's centre line.
           const Eigen::Vector2d corners[3] = {a, b, c};
           for (int row = std::max(low.y(), int(row_begin));
@@ -206,7 +224,7 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
         for (std::size_t i = begin; i < end; ++i) {
           if (!scan.isValid(i) || ground_of[i] >= 0) continue;
           const Eigen::Vector3d& m = mapped[i];
-          const Eigen::Vector2i cell = grid.cellOf(m.x(), m.y());
+          const Eigen::Vector2i& cell = cell_of[i];
           if (!grid.inside(cell.x(), cell.y())) continue;
           const std::size_t index = grid.index(cell.x(), cell.y());
           double ground = 0.0;
