@@ -142,40 +142,52 @@ class FootprintTester {
         footprints_(footprints),
         robot_(robot) {
     // One byte per cell, so each offset costs one read: strict (blocked or unobserved) and lenient
-    // (0 passable, 1 blocked by measured points only, 2 blocked otherwise).
-    strict_.resize(grid.cells());
-    lenient_.resize(grid.cells());
+    // (0 passable, 1 blocked by measured points only, 2 blocked otherwise). A border as wide as
+    // the largest footprint stands for the outside of the map, which blocks: no bounds checks.
+    for (const auto* lists : {&footprints.enlarged, &footprints.rim})
+      for (const auto& offsets : *lists)
+        for (const Offset& o : offsets)
+          pad_ = std::max({pad_, std::abs(o.dx), std::abs(o.dy)});
+    stride_ = grid.width + 2 * pad_;
+    const std::size_t padded = std::size_t(stride_) * std::size_t(grid.height + 2 * pad_);
+    strict_.assign(padded, 1);
+    lenient_.assign(padded, 2);
     for (int row = 0; row < grid.height; ++row)
       for (int column = 0; column < grid.width; ++column) {
-        const std::size_t cell = grid.index(column, row);
+        const std::size_t cell = grid.index(column, row), here = padded_index(column, row);
         const CellState state = classes.state[cell];
-        strict_[cell] = state == CellState::kBlocked || state == CellState::kUnknown;
+        strict_[here] = state == CellState::kBlocked || state == CellState::kUnknown;
         if (state == CellState::kBlocked) {
-          lenient_[cell] = classes.blocked_by_points_only[cell] ? 1 : 2;
+          lenient_[here] = classes.blocked_by_points_only[cell] ? 1 : 2;
         } else if (state == CellState::kUnknown) {
-          lenient_[cell] = tolerated.at<std::uint8_t>(row, column) ? 0 : 2;
+          lenient_[here] = tolerated.at<std::uint8_t>(row, column) ? 0 : 2;
         } else {
-          lenient_[cell] = 0;
+          lenient_[here] = 0;
         }
       }
-  }
-
-  // For the careful check: 0 passable, 1 blocked by measured points only, 2 blocked otherwise.
-  std::uint8_t lenientCode(int column, int row) const {
-    return grid_.inside(column, row) ? lenient_[grid_.index(column, row)] : 2;
-  }
-  bool blockedLeniently(int column, int row) const { return lenientCode(column, row) != 0; }
-
-  bool blocked(int column, int row) const {
-    return !grid_.inside(column, row) || strict_[grid_.index(column, row)];
+    auto linear = [&](const std::vector<std::vector<Offset>>& lists) {
+      std::vector<std::vector<std::ptrdiff_t>> result;
+      for (const auto& offsets : lists) {
+        result.emplace_back();
+        for (const Offset& o : offsets)
+          result.back().push_back(std::ptrdiff_t(o.dy) * stride_ + o.dx);
+      }
+      return result;
+    };
+    enlarged_ = linear(footprints.enlarged);
+    core_ = linear(footprints.core);
+    rim_ = linear(footprints.rim);
   }
 
   // Coarse test of the enlarged box: no blocked cell centre inside it.
   bool fitsEnlarged(int column, int row, int orientation) const {
     // Offsets nearer than the clearance are free: the distance transform vouches for them.
-    const auto& offsets = footprints_.enlarged[std::size_t(orientation)];
-    for (auto o = firstBeyond(offsets, clearance_.at<float>(row, column)); o != offsets.end(); ++o)
-      if (blocked(column + o->dx, row + o->dy)) return false;
+    const auto k = std::size_t(orientation);
+    const std::uint8_t* here = strict_.data() + padded_index(column, row);
+    const std::vector<std::ptrdiff_t>& offsets = enlarged_[k];
+    for (std::size_t i = beyond(footprints_.enlarged[k], clearance_.at<float>(row, column));
+         i < offsets.size(); ++i)
+      if (here[offsets[i]]) return false;
     return true;
   }
 
@@ -185,10 +197,12 @@ class FootprintTester {
   // 5 x 5 positions a fifth of a cell apart, centre first.
   bool fitsExactlyInCell(int column, int row, int orientation) const {
     // Cheap necessary condition first: nothing that blocks deep inside the box.
-    const auto& core = footprints_.core[std::size_t(orientation)];
-    for (auto o = firstBeyond(core, lenient_clearance_.at<float>(row, column)); o != core.end();
-         ++o)
-      if (blockedLeniently(column + o->dx, row + o->dy)) return false;
+    const auto k = std::size_t(orientation);
+    const float lenient_clearance = lenient_clearance_.at<float>(row, column);
+    const std::uint8_t* here = lenient_.data() + padded_index(column, row);
+    const std::vector<std::ptrdiff_t>& core = core_[k];
+    for (std::size_t i = beyond(footprints_.core[k], lenient_clearance); i < core.size(); ++i)
+      if (here[core[i]]) return false;
     // What could touch the box, gathered once in the box's own frame (u along, v across), then
     // tried against the 5 x 5 centres a fifth of a cell apart, the cell's centre first.
     const double yaw = footprints_.yaw[std::size_t(orientation)];
@@ -211,16 +225,15 @@ class FootprintTester {
       items.emplace_back(dx * c + dy * s, -dx * s + dy * c);
     };
     // Offsets nearer than the clearance are passable: the distance transform vouches for them.
-    const auto& rim = footprints_.rim[std::size_t(orientation)];
-    for (auto o = firstBeyond(rim, lenient_clearance_.at<float>(row, column)); o != rim.end();
-         ++o) {
-      const int cc = column + o->dx, rr = row + o->dy;
-      const std::uint8_t code = lenientCode(cc, rr);
+    const std::vector<Offset>& rim = footprints_.rim[k];
+    for (std::size_t i = beyond(rim, lenient_clearance); i < rim.size(); ++i) {
+      const std::uint8_t code = here[rim_[k][i]];
       if (code == 0) continue;
-      const std::size_t cell = grid_.index(cc, rr);
-      if (code == 1) {
-        for (std::uint32_t k = classes_.point_start[cell]; k < classes_.point_start[cell + 1]; ++k)
-          add(classes_.xs[k], classes_.ys[k]);
+      const int cc = column + rim[i].dx, rr = row + rim[i].dy;
+      if (code == 1) {  // only cells inside the grid hold points
+        const std::size_t cell = grid_.index(cc, rr);
+        for (std::uint32_t p = classes_.point_start[cell]; p < classes_.point_start[cell + 1]; ++p)
+          add(classes_.xs[p], classes_.ys[p]);
       } else {
         const Eigen::Vector2d other = grid_.centre(cc, rr);
         add(other.x(), other.y());
@@ -241,12 +254,24 @@ class FootprintTester {
   }
 
  private:
+  std::size_t padded_index(int column, int row) const {
+    return std::size_t(row + pad_) * std::size_t(stride_) + std::size_t(column + pad_);
+  }
+  // Index of the first offset at or beyond `radius` (offsets are sorted by radius).
+  static std::size_t beyond(const std::vector<Offset>& offsets, float radius) {
+    return std::size_t(firstBeyond(offsets, radius) - offsets.begin());
+  }
+
   const MapGrid& grid_;
   const CellClasses& classes_;
   const cv::Mat& clearance_;
   const cv::Mat& lenient_clearance_;
-  std::vector<std::uint8_t> strict_;
-  std::vector<std::uint8_t> lenient_;
+  int pad_ = 0;
+  int stride_ = 0;
+  std::vector<std::uint8_t> strict_;   // padded
+  std::vector<std::uint8_t> lenient_;  // padded
+  // Per orientation, the footprints' offsets as steps in the padded arrays.
+  std::vector<std::vector<std::ptrdiff_t>> enlarged_, core_, rim_;
   const Footprints& footprints_;
   const RobotParams& robot_;
 };
