@@ -24,12 +24,20 @@ std::vector<std::uint32_t> supportingPoints(const Scan& scan, const Plane& plane
   const float offset = float(plane.offset), tolerance = float(distance), half = tolerance / 2;
   std::vector<std::uint32_t> support;
   inner = 0;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const Point3f& p = scan.points[i];
-    const float d = std::abs(nx * p.x + ny * p.y + nz * p.z - offset);
-    if (d <= tolerance && scan.isValid(i)) {
-      support.push_back(std::uint32_t(i));
-      inner += d <= half;
+  // In blocks: the distances first, in a loop the compiler vectorises, then the few hits.
+  constexpr std::size_t kBlock = 256;
+  float distances[kBlock];
+  const Point3f* points = scan.points.data();
+  for (std::size_t first = 0; first < scan.size(); first += kBlock) {
+    const std::size_t count = std::min(kBlock, scan.size() - first);
+    for (std::size_t j = 0; j < count; ++j) {
+      const Point3f& p = points[first + j];
+      distances[j] = std::abs(nx * p.x + ny * p.y + nz * p.z - offset);
+    }
+    for (std::size_t j = 0; j < count; ++j) {
+      if (!(distances[j] <= tolerance) || !scan.isValid(first + j)) continue;
+      support.push_back(std::uint32_t(first + j));
+      inner += distances[j] <= half;
     }
   }
   return support;
