@@ -87,16 +87,18 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
 
   // Every point in the map frame (two halves in parallel); the grid covers the ground seen,
   // within max_extent of the scanner.
-  std::vector<Eigen::Vector3d> mapped(scan.size());
+  // Floats: within max_extent (<= 500 m) they keep better than 0.1 mm, at half
+  // the memory of doubles.
+  std::vector<Eigen::Vector3f> mapped(scan.size());
   Eigen::AlignedBox2d halves[2];
   detail::parallelChunks(
       scan.size(), 2, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
         for (std::size_t i = begin; i < end; ++i) {
           if (!scan.isValid(i)) continue;
           const Point3f& p = scan.points[i];
-          mapped[i] = map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+          mapped[i] = (map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z)).cast<float>();
           if (ground_of[i] >= 0 && mapped[i].head<2>().norm() <= params.map.max_extent)
-            halves[chunk].extend(mapped[i].head<2>());
+            halves[chunk].extend(mapped[i].head<2>().cast<double>());
         }
       });
   Eigen::AlignedBox2d box = halves[0];
@@ -154,9 +156,9 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
       std::size_t(grid.height), 2, [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
         for (const std::uint32_t t : large) {
           const auto& triangle = inputs.ground_triangles[t];
-          const Eigen::Vector2d a = mapped[triangle[0]].head<2>(),
-                                b = mapped[triangle[1]].head<2>(),
-                                c = mapped[triangle[2]].head<2>();
+          const Eigen::Vector2d a = mapped[triangle[0]].head<2>().cast<double>(),
+                                b = mapped[triangle[1]].head<2>().cast<double>(),
+                                c = mapped[triangle[2]].head<2>().cast<double>();
           const Eigen::Vector2i low =
               cell_of[triangle[0]].cwiseMin(cell_of[triangle[1]]).cwiseMin(cell_of[triangle[2]]);
           const Eigen::Vector2i high =
@@ -223,7 +225,7 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
       scan.size(), 2, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
         for (std::size_t i = begin; i < end; ++i) {
           if (!scan.isValid(i) || ground_of[i] >= 0) continue;
-          const Eigen::Vector3d& m = mapped[i];
+          const Eigen::Vector3d m = mapped[i].cast<double>();
           const Eigen::Vector2i& cell = cell_of[i];
           if (!grid.inside(cell.x(), cell.y())) continue;
           const std::size_t index = grid.index(cell.x(), cell.y());
