@@ -16,23 +16,52 @@ namespace {
 // Planes whose real area is this many times the minimum extend over their sparse outer rings.
 constexpr int kGrowthAreaFactor = 5;
 
+// Consecutive points of a scan line lie close together: a plane that passes far from a block's
+// bounding box has no support in it, and the block is skipped without looking at its points.
+constexpr std::size_t kBlock = 32;
+
+struct PointBlock {
+  Eigen::Vector3f centre = Eigen::Vector3f::Zero();
+  Eigen::Vector3f half_size = Eigen::Vector3f::Constant(-1.0F);  // negative: no valid point
+};
+
+std::vector<PointBlock> pointBlocks(const Scan& scan, int threads) {
+  std::vector<PointBlock> blocks((scan.size() + kBlock - 1) / kBlock);
+  detail::parallelChunks(
+      blocks.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t b = begin; b < end; ++b) {
+          Eigen::AlignedBox3f box;
+          for (std::size_t i = b * kBlock; i < std::min(scan.size(), (b + 1) * kBlock); ++i)
+            if (scan.isValid(i))
+              box.extend(Eigen::Vector3f(scan.points[i].x, scan.points[i].y, scan.points[i].z));
+          if (!box.isEmpty()) blocks[b] = {box.center(), box.sizes() / 2};
+        }
+      });
+  return blocks;
+}
+
 // Supporting point indices of a plane; `inner` counts those within half the distance.
-std::vector<std::uint32_t> supportingPoints(const Scan& scan, const Plane& plane, double distance,
+std::vector<std::uint32_t> supportingPoints(const Scan& scan, const std::vector<PointBlock>& blocks,
+                                            const Plane& plane, double distance,
                                             std::size_t& inner) {
-  const float nx = float(plane.normal.x()), ny = float(plane.normal.y()),
-              nz = float(plane.normal.z());
+  const Eigen::Vector3f normal = plane.normal.cast<float>();
+  const Eigen::Vector3f reach = normal.cwiseAbs();
   const float offset = float(plane.offset), tolerance = float(distance), half = tolerance / 2;
   std::vector<std::uint32_t> support;
   inner = 0;
-  // In blocks: the distances first, in a loop the compiler vectorises, then the few hits.
-  constexpr std::size_t kBlock = 256;
   float distances[kBlock];
   const Point3f* points = scan.points.data();
-  for (std::size_t first = 0; first < scan.size(); first += kBlock) {
-    const std::size_t count = std::min(kBlock, scan.size() - first);
+  for (std::size_t b = 0; b < blocks.size(); ++b) {
+    const PointBlock& block = blocks[b];
+    if (block.half_size.x() < 0.0F) continue;
+    // The box's points are within reach . half_size of its centre's distance to the plane.
+    const float slack = tolerance + reach.dot(block.half_size) + 1e-4F;
+    if (std::abs(normal.dot(block.centre) - offset) > slack) continue;
+    const std::size_t first = b * kBlock, count = std::min(kBlock, scan.size() - first);
+    // The distances first, in a loop the compiler vectorises, then the few hits.
     for (std::size_t j = 0; j < count; ++j) {
       const Point3f& p = points[first + j];
-      distances[j] = std::abs(nx * p.x + ny * p.y + nz * p.z - offset);
+      distances[j] = std::abs(normal.x() * p.x + normal.y() * p.y + normal.z() * p.z - offset);
     }
     for (std::size_t j = 0; j < count; ++j) {
       if (!(distances[j] <= tolerance) || !scan.isValid(first + j)) continue;
@@ -137,12 +166,13 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
                                const ValidationParams& params, int threads) {
   std::vector<SupportImage> images(candidates.size());
   std::vector<std::vector<std::uint32_t>> supports(candidates.size());
+  const std::vector<PointBlock> blocks = pointBlocks(scan, threads);
   detail::parallelChunks(
       candidates.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t k = begin; k < end; ++k) {
           Plane& plane = candidates[k];
           std::size_t inner = 0;
-          supports[k] = supportingPoints(scan, plane, params.support_distance, inner);
+          supports[k] = supportingPoints(scan, blocks, plane, params.support_distance, inner);
           plane.support_points = supports[k].size();
           const double area = supports[k].empty()
                                   ? 0.0
