@@ -4,6 +4,8 @@
 #include <benchmark/benchmark.h>
 
 #include <map>
+#include <string>
+#include <utility>
 
 #include "clearway/pipeline.h"
 #include "clearway/sim/builtin_scenes.h"
@@ -13,18 +15,25 @@ namespace {
 
 using namespace clearway;
 
-// Simulated garage scans, made once per line count: 80 lines = 14,400 points, 423 = 76,140.
-const Scan& garageScan(int lines) {
-  static std::map<int, Scan> scans;
-  auto it = scans.find(lines);
+// Simulated scans of a built-in scene, made once per scene and line count: garage 80 lines =
+// 14,400 points, 423 = 76,140.
+const Scan& sceneScan(const std::string& name, int lines) {
+  static std::map<std::pair<std::string, int>, Scan> scans;
+  auto it = scans.find({name, lines});
   if (it == scans.end()) {
-    const sim::Scene scene = *sim::builtinScene("garage");
+    const sim::Scene scene = *sim::builtinScene(name);
     sim::SensorModel sensor;
     sensor.lines = lines;
-    it = scans.emplace(lines, sim::simulateRosi(scene, sensor, sim::defaultPlacement(scene)).scan)
+    it = scans
+             .emplace(std::pair{name, lines},
+                      sim::simulateRosi(scene, sensor, sim::defaultPlacement(scene)).scan)
              .first;
   }
   return it->second;
+}
+
+const Scan& garageScan(int lines) {
+  return sceneScan("garage", lines);
 }
 
 void BM_Pipeline(benchmark::State& state) {
@@ -89,6 +98,21 @@ void BM_Traversability(benchmark::State& state) {
   state.counters["cells"] = double(analysis.inputs.grid.cells());
 }
 BENCHMARK(BM_Traversability)->Arg(12)->Arg(36)->Unit(benchmark::kMillisecond);
+
+// The target's map size: the outdoor scene (about 12 x 11 m of ground) at 2.5 cm cells is about
+// 500 x 430 cells; 36 orientations.
+void BM_TraversabilityLargeMap(benchmark::State& state) {
+  const Scan& scan = sceneScan("outdoor", 423);
+  SegmentationParams params;
+  params.map.resolution = 0.025;
+  params.map.orientations = 36;
+  const ScanAnalysis analysis = analyseScan(scan, params, 2);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(computeTraversability(analysis, params.robot, params.map, 2));
+  state.counters["width"] = analysis.inputs.grid.width;
+  state.counters["height"] = analysis.inputs.grid.height;
+}
+BENCHMARK(BM_TraversabilityLargeMap)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
