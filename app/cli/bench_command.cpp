@@ -56,6 +56,7 @@ struct BenchFigures {
   std::vector<double> total_ms;
   long extra_kilobytes = -1;
   bool trusted = false;
+  std::size_t planes = 0;               // validated planes
   std::optional<OwnAccuracy> accuracy;  // when the simulator's truth is beside the scan
   std::vector<PeerFigures> peers;
 
@@ -100,6 +101,7 @@ BenchFigures benchScan(const std::filesystem::path& file, const SegmentationPara
   figures.points = scan.size();
   const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
   figures.trusted = warm_up.trusted();
+  figures.planes = warm_up.analysis.planes.planes.size();
   const std::optional<sim::GroundTruth> truth = truthFor(file);
   if (truth) figures.accuracy = scoreOwnResult(*truth, warm_up);
   const bool peak_reset = resetPeakMemory();
@@ -131,6 +133,7 @@ nlohmann::json toJson(const BenchFigures& figures) {
                          {"repeat", figures.repeat},
                          {"threads", figures.threads},
                          {"ground_found", figures.trusted},
+                         {"planes", figures.planes},
                          {"median_ms", figures.median()},
                          {"p95_ms", figures.p95()},
                          {"points_per_s", figures.pointsPerSecond()},
@@ -152,9 +155,10 @@ nlohmann::json toJson(const BenchFigures& figures) {
 }
 
 void printTable(const BenchFigures& figures) {
-  std::cout << figures.scan << ": " << figures.points << " points, " << figures.repeat
-            << " runs after a warm-up, " << figures.threads << " threads"
-            << (figures.trusted ? "" : " (no ground found: the map is all untrusted)") << "\n";
+  std::cout << figures.scan << ": " << figures.points << " points, " << figures.planes
+            << " planes, " << figures.repeat << " runs after a warm-up, " << figures.threads
+            << " threads" << (figures.trusted ? "" : " (no ground found: the map is all untrusted)")
+            << "\n";
   std::cout << std::fixed << std::setprecision(2);
   std::cout << "  " << std::left << std::setw(18) << "stage" << std::right << std::setw(10)
             << "median ms" << std::setw(10) << "p95 ms"

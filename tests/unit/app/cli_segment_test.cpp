@@ -41,6 +41,7 @@ TEST(CliBench, TimesEveryStageOfEveryRun) {
   EXPECT_EQ(figures.at("repeat"), 5);
   EXPECT_EQ(figures.at("threads"), 1);
   EXPECT_TRUE(figures.at("ground_found").get<bool>());
+  EXPECT_GE(figures.at("planes").get<int>(), 3);  // floor, walls
   const double median = figures.at("median_ms").get<double>();
   EXPECT_GT(median, 0.0);
   EXPECT_GE(figures.at("p95_ms").get<double>(), median);
