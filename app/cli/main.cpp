@@ -10,6 +10,7 @@
 
 #include "arguments.h"
 #include "clearway/io/scan_error.h"
+#include "clearway/memory_tuning.h"
 #include "clearway/progress.h"
 #include "clearway/sim/scene_io.h"
 #include "commands.h"
@@ -45,6 +46,7 @@ constexpr const char* kUsage =
 }  // namespace
 
 int main(int argc, char** argv) {
+  clearway::keepFreedMemoryForReuse();
   using Command = std::function<int(const std::vector<std::string>&)>;
   const std::map<std::string, Command> commands = {
       {"info", clearway::cli::runInfo},       {"simulate", clearway::cli::runSimulate},

@@ -9,6 +9,7 @@
 #include <QTimer>
 #include <cstdio>
 
+#include "clearway/memory_tuning.h"
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/robot_panel.h"
 #include "clearway/ui/scene_view.h"
@@ -30,6 +31,7 @@ bool readLength(const QCommandLineParser& parser, const QString& name, double& v
 }  // namespace
 
 int main(int argc, char** argv) {
+  clearway::keepFreedMemoryForReuse();
   clearway::ui::SceneView::prepareApplication();
   QApplication application(argc, argv);
   QApplication::setApplicationName("Clearway");

@@ -7,6 +7,7 @@
 #include <string>
 #include <utility>
 
+#include "clearway/memory_tuning.h"
 #include "clearway/pipeline.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/rosi_simulator.h"
@@ -116,4 +117,11 @@ BENCHMARK(BM_TraversabilityLargeMap)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-BENCHMARK_MAIN();
+int main(int argc, char** argv) {
+  clearway::keepFreedMemoryForReuse();  // as the applications do
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}
