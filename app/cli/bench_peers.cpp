@@ -40,7 +40,7 @@ PeerFigures benchPlanePeer(const peers::PlanePeer& peer, const Scan& scan,
   figures.skipped = peer.unsuitable(scan);
   if (!figures.skipped.empty()) return figures;
   eval::PointPlanes result;
-  figures.milliseconds = timeRuns(runs, [&] { result = peer.run(scan, threads); });
+  figures.milliseconds = timeRuns(runs, [&] { result = peer.run(scan, threads, {}); });
   figures.planes = result.planes.size();
   if (truth) figures.accuracy = eval::scoreSegmentation(*truth, result);
   return figures;

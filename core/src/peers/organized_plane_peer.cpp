@@ -13,25 +13,24 @@
 
 namespace clearway::peers {
 
-eval::PointPlanes pclOrganizedMultiPlane(const Scan& scan, int /*threads: PCL's is serial*/) {
+eval::PointPlanes pclOrganizedMultiPlane(const Scan& scan, int /*threads: PCL's is serial*/,
+                                         const PlanePeerSettings& settings) {
   eval::PointPlanes result = detail::noPlanes(scan);
   if (!scan.isOrganised()) return result;
   const auto cloud = detail::organisedCloud(scan);
 
   pcl::IntegralImageNormalEstimation<pcl::PointXYZ, pcl::Normal> normal_estimation;
   normal_estimation.setNormalEstimationMethod(normal_estimation.AVERAGE_3D_GRADIENT);
-  // Our z is the turntable axis, not a camera's depth: PCL's depth-change test compares z of
-  // neighbours, so it is set loose enough (10 cm at z = 0) not to cut planes at every row.
-  normal_estimation.setMaxDepthChangeFactor(0.05F);
-  normal_estimation.setNormalSmoothingSize(10.0F);
+  normal_estimation.setMaxDepthChangeFactor(settings.depth_change_factor);
+  normal_estimation.setNormalSmoothingSize(settings.normal_smoothing_size);
   normal_estimation.setInputCloud(cloud);
   auto normals = std::make_shared<pcl::PointCloud<pcl::Normal>>();
   normal_estimation.compute(*normals);
 
   pcl::OrganizedMultiPlaneSegmentation<pcl::PointXYZ, pcl::Normal, pcl::Label> segmentation;
-  segmentation.setMinInliers(200);
-  segmentation.setAngularThreshold(3.0 * std::numbers::pi / 180.0);
-  segmentation.setDistanceThreshold(0.03);
+  segmentation.setMinInliers(unsigned(settings.min_plane_points));
+  segmentation.setAngularThreshold(settings.angle_threshold_deg * std::numbers::pi / 180.0);
+  segmentation.setDistanceThreshold(settings.distance_threshold);
   segmentation.setInputNormals(normals);
   segmentation.setInputCloud(cloud);
   std::vector<pcl::ModelCoefficients> coefficients;

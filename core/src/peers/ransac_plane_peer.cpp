@@ -10,14 +10,8 @@
 #include "pcl_clouds.h"
 
 namespace clearway::peers {
-namespace {
-
-constexpr std::size_t kMinPlanePoints = 200;
-constexpr int kMaxPlanes = 40;
-
-}  // namespace
-
-eval::PointPlanes pclRansacPlanes(const Scan& scan, int threads) {
+eval::PointPlanes pclRansacPlanes(const Scan& scan, int threads,
+                                  const PlanePeerSettings& settings) {
   eval::PointPlanes result = detail::noPlanes(scan);
   std::vector<std::uint32_t> scan_index;
   const auto cloud = detail::validCloud(scan, scan_index);
@@ -25,8 +19,8 @@ eval::PointPlanes pclRansacPlanes(const Scan& scan, int threads) {
   pcl::SACSegmentation<pcl::PointXYZ> segmentation;
   segmentation.setModelType(pcl::SACMODEL_PLANE);
   segmentation.setMethodType(pcl::SAC_RANSAC);
-  segmentation.setDistanceThreshold(0.03);
-  segmentation.setMaxIterations(200);
+  segmentation.setDistanceThreshold(settings.distance_threshold);
+  segmentation.setMaxIterations(settings.ransac_iterations);
   segmentation.setOptimizeCoefficients(false);  // addPlane refits on the inliers
   segmentation.setNumberOfThreads(threads);
   segmentation.setInputCloud(cloud);
@@ -35,12 +29,13 @@ eval::PointPlanes pclRansacPlanes(const Scan& scan, int threads) {
   for (std::size_t i = 0; i < remaining->size(); ++i)
     (*remaining)[i] = pcl::index_t(i);
   std::vector<bool> taken(cloud->size(), false);
-  for (int plane = 0; plane < kMaxPlanes && remaining->size() >= kMinPlanePoints; ++plane) {
+  for (int plane = 0; plane < settings.max_planes && remaining->size() >= settings.min_plane_points;
+       ++plane) {
     segmentation.setIndices(remaining);
     pcl::PointIndices inliers;
     pcl::ModelCoefficients coefficients;
     segmentation.segment(inliers, coefficients);
-    if (inliers.indices.size() < kMinPlanePoints) break;
+    if (inliers.indices.size() < settings.min_plane_points) break;
     detail::addPlane(*cloud, inliers.indices, scan_index, result);
     for (const pcl::index_t index : inliers.indices)
       taken[std::size_t(index)] = true;

@@ -11,7 +11,8 @@
 
 namespace clearway::peers {
 
-eval::PointPlanes pclRegionGrowing(const Scan& scan, int threads) {
+eval::PointPlanes pclRegionGrowing(const Scan& scan, int threads,
+                                   const PlanePeerSettings& settings) {
   eval::PointPlanes result = detail::noPlanes(scan);
   std::vector<std::uint32_t> scan_index;
   const auto cloud = detail::validCloud(scan, scan_index);
@@ -20,17 +21,18 @@ eval::PointPlanes pclRegionGrowing(const Scan& scan, int threads) {
   auto tree = std::make_shared<pcl::search::KdTree<pcl::PointXYZ>>();
   pcl::NormalEstimationOMP<pcl::PointXYZ, pcl::Normal> normal_estimation{unsigned(threads)};
   normal_estimation.setSearchMethod(tree);
-  normal_estimation.setKSearch(20);
+  normal_estimation.setKSearch(settings.neighbours);
   normal_estimation.setInputCloud(cloud);
   auto normals = std::make_shared<pcl::PointCloud<pcl::Normal>>();
   normal_estimation.compute(*normals);
 
   pcl::RegionGrowing<pcl::PointXYZ, pcl::Normal> region_growing;
-  region_growing.setMinClusterSize(200);
+  region_growing.setMinClusterSize(pcl::uindex_t(settings.min_plane_points));
   region_growing.setSearchMethod(tree);
-  region_growing.setNumberOfNeighbours(20);
-  region_growing.setSmoothnessThreshold(float(3.0 * std::numbers::pi / 180.0));
-  region_growing.setCurvatureThreshold(0.05F);
+  region_growing.setNumberOfNeighbours(unsigned(settings.neighbours));
+  region_growing.setSmoothnessThreshold(
+      float(settings.angle_threshold_deg * std::numbers::pi / 180.0));
+  region_growing.setCurvatureThreshold(settings.max_curvature);
   region_growing.setInputCloud(cloud);
   region_growing.setInputNormals(normals);
   std::vector<pcl::PointIndices> regions;

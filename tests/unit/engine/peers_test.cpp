@@ -32,7 +32,7 @@ TEST(PlanePeers, EachFindsTheGaragePlanesOnTheirTrueSurfaces) {
   for (const peers::PlanePeer& peer : peers::planePeers()) {
     SCOPED_TRACE(peer.name);
     ASSERT_TRUE(peer.unsuitable(scan).empty()) << peer.unsuitable(scan);
-    const eval::PointPlanes result = peer.run(scan, 2);
+    const eval::PointPlanes result = peer.run(scan, 2, {});
     ASSERT_EQ(result.point_plane.size(), scan.size());
     const eval::SegmentationAccuracy accuracy =
         eval::scoreSegmentation(run.simulated.truth, result);
@@ -64,7 +64,7 @@ TEST(PlanePeers, ScansTheyCannotUseGiveAReasonOrNoPlanes) {
   std::fill(nothing.status.begin(), nothing.status.end(), PointStatus::kNoReturn);
   for (const peers::PlanePeer& peer : peers::planePeers()) {
     SCOPED_TRACE(peer.name);
-    const eval::PointPlanes result = peer.run(nothing, 2);
+    const eval::PointPlanes result = peer.run(nothing, 2, {});
     EXPECT_TRUE(result.planes.empty());
     EXPECT_EQ(result.point_plane.size(), nothing.size());
   }
