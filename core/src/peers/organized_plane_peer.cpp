@@ -33,9 +33,13 @@ eval::PointPlanes pclOrganizedMultiPlane(const Scan& scan, int /*threads: PCL's 
   segmentation.setDistanceThreshold(settings.distance_threshold);
   segmentation.setInputNormals(normals);
   segmentation.setInputCloud(cloud);
+  std::vector<pcl::PlanarRegion<pcl::PointXYZ>,
+              Eigen::aligned_allocator<pcl::PlanarRegion<pcl::PointXYZ>>>
+      regions;
   std::vector<pcl::ModelCoefficients> coefficients;
-  std::vector<pcl::PointIndices> inliers;
-  segmentation.segment(coefficients, inliers);
+  std::vector<pcl::PointIndices> inliers, label_indices, boundaries;
+  auto labels = std::make_shared<pcl::PointCloud<pcl::Label>>();
+  segmentation.segmentAndRefine(regions, coefficients, inliers, labels, label_indices, boundaries);
   for (const pcl::PointIndices& plane : inliers)
     detail::addPlane(*cloud, plane.indices, {}, result);
   return result;

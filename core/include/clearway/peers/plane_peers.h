@@ -40,7 +40,8 @@ struct PlanePeer {
 // All plane peers, in the order the benchmark prints them.
 const std::vector<PlanePeer>& planePeers();
 
-// PCL OrganizedMultiPlaneSegmentation on integral-image normals (single-threaded in PCL).
+// PCL OrganizedMultiPlaneSegmentation with its refinement step (segmentAndRefine) on
+// integral-image normals (single-threaded in PCL).
 eval::PointPlanes pclOrganizedMultiPlane(const Scan& scan, int threads,
                                          const PlanePeerSettings& settings = {});
 // PCL RegionGrowing on kNN normals (NormalEstimationOMP, k-d tree), a least-squares plane per
