@@ -20,6 +20,7 @@
 #include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
 #include "clearway/sim/ground_truth_io.h"
+#include "clearway/sim/scene_io.h"
 #include "commands.h"
 #include "robot_options.h"
 
@@ -84,11 +85,17 @@ struct BenchFigures {
   }
 };
 
-// The simulator's truth for `file`, when it is beside it.
-std::optional<sim::GroundTruth> truthFor(const std::filesystem::path& file) {
+// The simulator's truth for `file`, when it is beside it. Throws SceneError when it is not this
+// scan's truth.
+std::optional<sim::GroundTruth> truthFor(const std::filesystem::path& file, const Scan& scan) {
   const std::filesystem::path truth_file = sim::truthPathFor(file);
   if (!std::filesystem::exists(truth_file)) return std::nullopt;
-  return sim::loadGroundTruth(truth_file);
+  sim::GroundTruth truth = sim::loadGroundTruth(truth_file);
+  if (truth.surfaces.size() != scan.size())
+    throw sim::SceneError(truth_file.string() + " describes " +
+                          std::to_string(truth.surfaces.size()) + " points, " + file.string() +
+                          " has " + std::to_string(scan.size()) + ": not this scan's truth");
+  return truth;
 }
 
 BenchFigures benchScan(const std::filesystem::path& file, const SegmentationParams& params,
@@ -102,7 +109,7 @@ BenchFigures benchScan(const std::filesystem::path& file, const SegmentationPara
   const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
   figures.trusted = warm_up.trusted();
   figures.planes = warm_up.analysis.planes.planes.size();
-  const std::optional<sim::GroundTruth> truth = truthFor(file);
+  const std::optional<sim::GroundTruth> truth = truthFor(file, scan);
   if (truth) figures.accuracy = scoreOwnResult(*truth, warm_up);
   const bool peak_reset = resetPeakMemory();
   const long resident_before = statusKilobytes("VmRSS");
@@ -148,8 +155,9 @@ nlohmann::json toJson(const BenchFigures& figures) {
   }
   if (!figures.peers.empty()) {
     json["peers"] = nlohmann::json::object();
+    const OwnTimes own = figures.ownTimes();
     for (const PeerFigures& peer : figures.peers)
-      json["peers"][peer.name] = peerJson(peer, figures.ownTimes());
+      json["peers"][peer.name] = peerJson(peer, own);
   }
   return json;
 }

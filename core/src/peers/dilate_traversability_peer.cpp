@@ -31,6 +31,8 @@ std::vector<std::uint8_t> dilateTraversability(const ScanAnalysis& analysis,
   const MapGrid& grid = analysis.inputs.grid;
   std::vector<std::uint8_t> labels(grid.cells(), 0);
   if (!analysis.ground_found || grid.cells() == 0) return labels;
+  // OpenCV's thread count is process-wide: use the caller's for this call only.
+  const int opencv_threads = cv::getNumThreads();
   cv::setNumThreads(threads);
   MapParams grid_params = params;
   grid_params.resolution = grid.resolution;
@@ -51,6 +53,7 @@ std::vector<std::uint8_t> dilateTraversability(const ScanAnalysis& analysis,
                cv::BORDER_CONSTANT, cv::Scalar(255));
     fits_somehow.setTo(255, swept == 0);
   }
+  cv::setNumThreads(opencv_threads);
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row);

@@ -10,6 +10,7 @@
 #include "pcl_clouds.h"
 
 namespace clearway::peers {
+
 eval::PointPlanes pclRansacPlanes(const Scan& scan, int threads,
                                   const PlanePeerSettings& settings) {
   eval::PointPlanes result = detail::noPlanes(scan);
