@@ -99,6 +99,16 @@ TEST(CliBench, BadInputsFailClearly) {
   const auto missing = runCli("bench " + shellQuote((directory / "missing.pcd").string()));
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("missing.pcd"), std::string::npos) << missing.err;
+  // A truth file that belongs to another scan is refused, naming both files.
+  const auto small = (directory / "small.pcd").string(), large = (directory / "large.pcd").string();
+  ASSERT_EQ(runCli("simulate garage --lines 40 -o " + shellQuote(small)).exit_code, 0);
+  ASSERT_EQ(runCli("simulate garage --lines 60 -o " + shellQuote(large)).exit_code, 0);
+  std::filesystem::copy_file(directory / "small.truth.json", directory / "large.truth.json",
+                             std::filesystem::copy_options::overwrite_existing);
+  const auto foreign = runCli("bench " + shellQuote(large) + " --repeat 1");
+  EXPECT_EQ(foreign.exit_code, 1);
+  EXPECT_NE(foreign.err.find("not this scan's truth"), std::string::npos) << foreign.err;
+  EXPECT_NE(foreign.err.find("large.truth.json"), std::string::npos) << foreign.err;
 }
 
 TEST(CliSegment, BadInputsFailClearly) {
