@@ -3,7 +3,9 @@
 // memory a run needs beyond the loaded scan.
 
 #include <malloc.h>
+#include <Eigen/Core>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +24,7 @@
 #include "clearway/sim/ground_truth_io.h"
 #include "clearway/sim/scene_io.h"
 #include "commands.h"
+#include "pose_options.h"
 #include "robot_options.h"
 
 namespace clearway::cli {
@@ -55,6 +58,7 @@ struct BenchFigures {
   std::vector<std::string> stage_order;
   std::map<std::string, std::vector<double>> stage_ms;
   std::vector<double> total_ms;
+  std::vector<double> goal_ms;  // one "Can it get there?" query per run
   long extra_kilobytes = -1;
   bool trusted = false;
   std::size_t planes = 0;               // validated planes
@@ -98,13 +102,31 @@ std::optional<sim::GroundTruth> truthFor(const std::filesystem::path& file, cons
   return truth;
 }
 
-BenchFigures benchScan(const std::filesystem::path& file, const SegmentationParams& params,
-                       int repeat, int threads, bool with_peers) {
+// The reachable cell farthest from the robot: the hardest goal query a map offers.
+std::optional<Eigen::Vector2d> farthestReachable(const TraversabilityMap& map) {
+  std::optional<Eigen::Vector2d> farthest;
+  double best = -1.0;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      if (map.reach.empty() || !map.reach[map.grid.index(column, row)]) continue;
+      const Eigen::Vector2d centre = map.grid.centre(column, row);
+      const double distance =
+          std::hypot(centre.x() - map.robot_pose.x, centre.y() - map.robot_pose.y);
+      if (distance > best) {
+        best = distance;
+        farthest = centre;
+      }
+    }
+  return farthest;
+}
+
+BenchFigures benchScan(const std::filesystem::path& file, const Arguments& arguments,
+                       SegmentationParams params, int repeat, int threads, bool with_peers) {
   BenchFigures figures;
   figures.scan = file.string();
   figures.repeat = repeat;
   figures.threads = threads;
-  const Scan scan = loadScan(file);
+  const Scan scan = loadScanWithPose(file, arguments, params).scan;
   figures.points = scan.size();
   const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
   figures.trusted = warm_up.trusted();
@@ -116,6 +138,15 @@ BenchFigures benchScan(const std::filesystem::path& file, const SegmentationPara
   for (int run = 0; run < repeat; ++run) {
     const PipelineResult result = runPipeline(scan, params, threads);
     figures.total_ms.push_back(result.total_ms);
+    // "Can it get there?" to the farthest reachable cell: timed apart, not part of the total.
+    if (const auto goal = farthestReachable(result.map)) {
+      const auto start = std::chrono::steady_clock::now();
+      const GoalResult answer = planPath(result.map, goal->x(), goal->y());
+      const double ms =
+          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
+              .count();
+      if (answer.reachable) figures.goal_ms.push_back(ms);
+    }
     for (const StageTiming& stage : result.timings) {
       if (!figures.stage_ms.count(stage.stage)) figures.stage_order.push_back(stage.stage);
       figures.stage_ms[stage.stage].push_back(stage.milliseconds);
@@ -145,6 +176,11 @@ nlohmann::json toJson(const BenchFigures& figures) {
                          {"p95_ms", figures.p95()},
                          {"points_per_s", figures.pointsPerSecond()},
                          {"stages", stages}};
+  // Stages 5-6 are what a robot change re-runs (reachability included in "traversability").
+  json["robot_rerun_median_ms"] = figures.stagesMedian({"traversability", "scene"});
+  if (!figures.goal_ms.empty())
+    json["goal_query"] = {{"median_ms", quantile(figures.goal_ms, 0.5)},
+                          {"p95_ms", quantile(figures.goal_ms, 0.95)}};
   if (figures.extra_kilobytes >= 0) {
     json["extra_memory_mb"] = figures.extraMegabytes();
     json["extra_bytes_per_point"] = figures.extraBytesPerPoint();
@@ -194,6 +230,12 @@ void printTable(const BenchFigures& figures) {
               << wrongPlacePairs(figures.accuracy->map) << " of "
               << figures.accuracy->map.places.size() << " place pairs wrong\n";
   }
+  std::cout << "  robot re-run (traversability with reachability + scene): "
+            << figures.stagesMedian({"traversability", "scene"}) << " ms median";
+  if (!figures.goal_ms.empty())
+    std::cout << "; goal query to the farthest reachable cell: " << quantile(figures.goal_ms, 0.5)
+              << " ms median";
+  std::cout << "\n";
   if (!figures.peers.empty()) printPeers(figures.peers, figures.ownTimes());
 }
 
@@ -201,7 +243,7 @@ void printTable(const BenchFigures& figures) {
 
 int runBench(const std::vector<std::string>& words) {
   const Arguments arguments(words, {"json", "peers"},
-                            withRobotOptions({"repeat", "threads", "params"}));
+                            withPoseOptions(withRobotOptions({"repeat", "threads", "params"})));
   if (arguments.positional().empty())
     throw UsageError(
         "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers]");
@@ -211,7 +253,8 @@ int runBench(const std::vector<std::string>& words) {
 
   nlohmann::json all = nlohmann::json::array();
   for (const std::string& file : arguments.positional()) {
-    const BenchFigures figures = benchScan(file, params, repeat, threads, arguments.flag("peers"));
+    const BenchFigures figures =
+        benchScan(file, arguments, params, repeat, threads, arguments.flag("peers"));
     if (arguments.flag("json"))
       all.push_back(toJson(figures));
     else

@@ -4,17 +4,18 @@
 #include "clearway/io/scan_io.h"
 #include "clearway/scan_summary.h"
 #include "commands.h"
+#include "pose_options.h"
 
 namespace clearway::cli {
 
 int runInfo(const std::vector<std::string>& words) {
-  const Arguments arguments(words, {"json"}, {"self-hit-radius"});
+  const Arguments arguments(words, {"json"}, withPoseOptions({}));
   arguments.expectPositional(1, "one scan file: clearway-cli info [--json] FILE");
-  LoadOptions options;
-  options.self_hit_radius =
-      arguments.number("self-hit-radius", options.self_hit_radius, 0.0, 100.0);
-  const Scan scan = loadScan(arguments.positional()[0], options);
-  const ScanSummary summary = summarise(scan);
+  SegmentationParams params;
+  const LoadedScan loaded = loadScanWithPose(arguments.positional()[0], arguments, params);
+  ScanSummary summary = summarise(loaded.scan);
+  summary.pose_source = std::string(poseSourceName(loaded.pose.source));
+  summary.pose_detail = loaded.pose.detail;
   std::cout << (arguments.flag("json") ? toJson(summary) + "\n" : toText(summary));
   return 0;
 }

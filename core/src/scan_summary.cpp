@@ -1,5 +1,7 @@
 #include "clearway/scan_summary.h"
 
+#include "clearway/pose.h"
+
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
@@ -41,6 +43,9 @@ ScanSummary summarise(const Scan& scan) {
                                  [](const ScanLine& line) { return std::isfinite(line.beta); });
   summary.bounds = validBounds(scan);
   summary.sensor_pose = scan.sensor_pose;
+  summary.pose_source = scan.pose_source == PoseSource::kNone && scan.sensor_pose
+                            ? "file"
+                            : std::string(poseSourceName(scan.pose_source));
   return summary;
 }
 
@@ -66,6 +71,10 @@ std::string toText(const ScanSummary& s) {
     out << "bounds [m]:      x " << s.bounds.min.x << " .. " << s.bounds.max.x << ", y "
         << s.bounds.min.y << " .. " << s.bounds.max.y << ", z " << s.bounds.min.z << " .. "
         << s.bounds.max.z << '\n';
+  out << "pose source: " << s.pose_source;
+  if (!s.pose_detail.empty()) out << " (" << s.pose_detail << ")";
+  if (s.pose_source == "none") out << ": the up direction will be estimated from the scan";
+  out << '\n';
   if (s.sensor_pose)
     out << "sensor position: " << s.sensor_pose->position[0] << ' ' << s.sensor_pose->position[1]
         << ' ' << s.sensor_pose->position[2] << '\n';
@@ -90,6 +99,8 @@ std::string toJson(const ScanSummary& s) {
   if (!s.bounds.empty())
     json["bounds"] = {{"min", {s.bounds.min.x, s.bounds.min.y, s.bounds.min.z}},
                       {"max", {s.bounds.max.x, s.bounds.max.y, s.bounds.max.z}}};
+  json["pose_source"] = s.pose_source;
+  if (!s.pose_detail.empty()) json["pose_detail"] = s.pose_detail;
   if (s.sensor_pose)
     json["sensor_pose"] = {{"position", s.sensor_pose->position},
                            {"rotation", s.sensor_pose->rotation}};

@@ -3,6 +3,7 @@
 // The whole method, scan in, result out: stages 1-4 once per scan (ScanAnalysis), stages 5-6 per
 // robot size (reuseAnalysis keeps the former when only the robot changes).
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ struct PipelineResult {
   SceneGeometry scene;
   RobotParams robot;
   std::vector<PointClass> point_classes;  // per scan point
+  std::optional<GoalResult> goal;         // "Can it get there?", when a goal was asked
   std::vector<StageTiming> timings;       // analysis stages, then traversability and scene
   double total_ms = 0.0;
 

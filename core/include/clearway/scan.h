@@ -34,6 +34,18 @@ struct SensorPose {
   std::array<double, 9> rotation{1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};  // row-major
 };
 
+// Precedence, highest first: what the operator said (command line or console), the sidecar
+// SCAN.pose.json written by acquisition, the file itself (PCD VIEWPOINT, 3DTK .pose); with none
+// of them the up direction is estimated from the scan (or refused, with --up none).
+enum class PoseSource : std::uint8_t {
+  kNone,         // nothing known; the pipeline estimates or refuses
+  kFile,         // PCD VIEWPOINT, 3DTK .pose
+  kSidecar,      // SCAN.pose.json beside the scan
+  kCommandLine,  // --pose / --up (or the console's pose fields)
+  kOperator,     // the console: the operator picked the floor or confirmed an estimate
+  kEstimated,    // the pipeline's own estimate of the up direction (never set by resolution)
+};
+
 // Why a point carries no usable measurement.
 enum class PointStatus : std::uint8_t {
   kValid = 0,
@@ -53,11 +65,12 @@ struct Scan {
   // RoSi files this is the scanner frame with z the turntable axis. Points whose status is not
   // kValid may hold NaN or meaningless coordinates and must be skipped by every consumer.
   std::vector<Point3f> points;
-  std::vector<PointStatus> status;  // one per point
-  std::vector<float> intensity;     // remission per point; empty when the format has none
-  std::vector<float> alpha;         // measurement angle per point [rad]; empty when unknown
-  std::vector<ScanLine> lines;      // cover points exactly, in order
-  std::optional<SensorPose> sensor_pose;
+  std::vector<PointStatus> status;        // one per point
+  std::vector<float> intensity;           // remission per point; empty when the format has none
+  std::vector<float> alpha;               // measurement angle per point [rad]; empty when unknown
+  std::vector<ScanLine> lines;            // cover points exactly, in order
+  std::optional<SensorPose> sensor_pose;  // world_from_scanner
+  PoseSource pose_source = PoseSource::kNone;  // where sensor_pose came from (see pose.h)
   ScanMetadata metadata;
 
   std::size_t size() const { return points.size(); }

@@ -27,6 +27,8 @@ struct ScanSummary {
   bool has_beta = false;
   Bounds bounds;
   std::optional<SensorPose> sensor_pose;
+  std::string pose_source = "none";  // what resolveScanPose chose (pose.h)
+  std::string pose_detail;
 };
 
 ScanSummary summarise(const Scan& scan);

@@ -89,6 +89,7 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
   }
   if (scan.empty()) throw ScanError(file, "empty cloud: no points");
   scan.metadata.source_path = file.string();
+  if (scan.sensor_pose) scan.pose_source = PoseSource::kFile;
 
   if (format == ScanFormat::kUos) markSaturatedRange(scan);
   markSelfHits(scan, options.self_hit_radius);

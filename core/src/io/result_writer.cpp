@@ -3,11 +3,13 @@
 #include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <opencv2/imgcodecs.hpp>
 #include <sstream>
 
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_error.h"
+#include "clearway/pose.h"
 
 namespace clearway {
 namespace {
@@ -82,6 +84,27 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
                       {"validated", plane.validated}});
   }
   report["planes"] = planes;
+  const Eigen::Vector3d& up = analysis.up;
+  report["pose"] = {{"source", poseSourceName(analysis.pose_source)},
+                    {"up_in_scanner_frame", {up.x(), up.y(), up.z()}},
+                    {"confidence", analysis.up_confidence}};
+  const TraversabilityMap& map = result.map;
+  report["robot_pose"] = {{"x", map.robot_pose.x},
+                          {"y", map.robot_pose.y},
+                          {"yaw_deg", map.robot_pose.yaw * 180.0 / std::numbers::pi}};
+  report["reach"] = {{"file", "reach.pgm"},
+                     {"reachable_cells", map.reachable_cells},
+                     {"fits_not_reachable_cells", map.fits_not_reachable_cells}};
+  if (result.goal) {
+    nlohmann::ordered_json path = nlohmann::ordered_json::array();
+    for (const PathPose& pose : result.goal->path)
+      path.push_back({pose.x, pose.y, pose.heading_deg});
+    nlohmann::ordered_json goal = {{"reachable", result.goal->reachable}};
+    if (!result.goal->reason.empty()) goal["reason"] = result.goal->reason;
+    goal["path"] = path;
+    goal["length_m"] = result.goal->length_m;
+    report["goal"] = goal;
+  }
   nlohmann::ordered_json cells;
   for (int label = 0; label < kCellLabelCount; ++label)
     cells[std::string(labelName(CellLabel(label)))] = result.map.counts[std::size_t(label)];
@@ -119,6 +142,12 @@ void writeLabelsPgm(const TraversabilityMap& map, const std::filesystem::path& f
 
 void writeReasonsPgm(const TraversabilityMap& map, const std::filesystem::path& file) {
   writePgm(file, map.grid.width, map.grid.height, topDown(map.reasons, map.grid));
+}
+
+void writeReachPgm(const TraversabilityMap& map, const std::filesystem::path& file) {
+  std::vector<std::uint8_t> reach = map.reach;
+  reach.resize(map.grid.cells(), 0);  // no search ran (no ground): nothing is reachable
+  writePgm(file, map.grid.width, map.grid.height, topDown(reach, map.grid));
 }
 
 void writeRosMap(const TraversabilityMap& map, const std::filesystem::path& pgm_file) {
@@ -208,6 +237,7 @@ void writeResultFolder(const PipelineResult& result, const SegmentationParams& p
   if (error) throw ScanError(folder, "cannot create the output folder: " + error.message());
   writeLabelsPgm(result.map, folder / "labels.pgm");
   writeReasonsPgm(result.map, folder / "reasons.pgm");
+  writeReachPgm(result.map, folder / "reach.pgm");
   writeRosMap(result.map, folder / "map.pgm");
   writeTraversabilityPng(result.map, folder / "traversability.png");
   writeScenePly(result.scene, folder / "scene.ply");

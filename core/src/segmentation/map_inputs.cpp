@@ -14,6 +14,10 @@
 namespace clearway {
 namespace {
 
+// Half the side of the square around the scanner's foot the grid always covers: room for a robot
+// of up to 2.5 m x 2.5 m on a mounting up to 1 m off its centre, plus the floor its body hides [m].
+constexpr double kOwnPlaceExtent = 3.0;
+
 constexpr double kMapMargin = 0.25;  // [m]
 
 // Neighbouring lines are paired point by point: same index for organised scans, same relative
@@ -104,6 +108,10 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
   Eigen::AlignedBox2d box = halves[0];
   if (!halves[1].isEmpty()) box.extend(halves[1]);
   if (box.isEmpty()) box.extend(Eigen::Vector2d::Zero());
+  // The robot stands around the scanner's foot (the map origin), where the scan often saw no
+  // floor: the grid always holds its own place, whatever robot the map is computed for.
+  box.extend(Eigen::Vector2d::Constant(kOwnPlaceExtent));
+  box.extend(Eigen::Vector2d::Constant(-kOwnPlaceExtent));
   // A thin rim around the ground, the same for every robot so that a re-run for a new size keeps
   // the grid. Nothing outside it was observed ground, and cells outside the grid count as blocked.
   const double margin = kMapMargin;

@@ -24,6 +24,8 @@ struct Entry {
 
 const std::vector<Entry>& entries() {
   static const std::vector<Entry> kEntries = {
+      {"scan.self_hit_radius", "Returns closer than this to the scanner are the robot itself [m]",
+       0.0, 5.0, [](SegmentationParams& p) -> Field { return &p.scan.self_hit_radius; }},
       {"lines.max_deviation", "Split a segment where a point is this far from it [m]", 0.001, 1.0,
        [](SegmentationParams& p) -> Field { return &p.lines.max_deviation; }},
       {"lines.deviation_per_metre", "Extra split distance per metre of range [m/m]", 0.0, 0.1,
@@ -77,6 +79,8 @@ const std::vector<Entry>& entries() {
        [](SegmentationParams& p) -> Field { return &p.ground.max_slope_deg; }},
       {"ground.min_scanner_height", "The scanner is at least this far above the ground [m]", -5.0,
        10.0, [](SegmentationParams& p) -> Field { return &p.ground.min_scanner_height; }},
+      {"ground.estimate_up", "Estimate the up direction of scans without a pose (0: refuse)", 0, 1,
+       [](SegmentationParams& p) -> Field { return &p.ground.estimate_up; }},
       {"map.resolution", "Traversability cell size [m]", 0.01, 1.0,
        [](SegmentationParams& p) -> Field { return &p.map.resolution; }},
       {"map.orientations", "Robot orientations tried over 180 deg", 1, 180,
@@ -95,6 +99,12 @@ const std::vector<Entry>& entries() {
        [](SegmentationParams& p) -> Field { return &p.robot.height; }},
       {"robot.max_step", "Highest obstacle the robot drives over [m]", 0.0, 2.0,
        [](SegmentationParams& p) -> Field { return &p.robot.max_step; }},
+      {"robot.mount_x", "Scanner position on the robot, forward of its centre [m]", -10.0, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.mount_x; }},
+      {"robot.mount_y", "Scanner position on the robot, left of its centre [m]", -10.0, 10.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.mount_y; }},
+      {"robot.mount_yaw_deg", "Scanner x axis turned from the robot's heading [deg]", -180.0, 180.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.mount_yaw_deg; }},
   };
   return kEntries;
 }

@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "clearway/segmentation/up_estimation.h"
+
 namespace clearway {
 namespace {
 
@@ -56,7 +58,35 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   clock.stop("validation");
   reportProgress(progress, 0.8);
 
-  selectGround(analysis, params.ground);
+  if (scan.sensor_pose) {
+    analysis.pose_source =
+        scan.pose_source == PoseSource::kNone ? PoseSource::kFile : scan.pose_source;
+    if (scan.pose_source == PoseSource::kSidecar) {
+      const SensorPose& pose = *scan.sensor_pose;
+      Eigen::Isometry3d robot_from_scanner = Eigen::Isometry3d::Identity();
+      for (int r = 0; r < 3; ++r) {
+        robot_from_scanner.translation()[r] = pose.position[std::size_t(r)];
+        for (int c = 0; c < 3; ++c)
+          robot_from_scanner.linear()(r, c) = pose.rotation[std::size_t(3 * r + c)];
+      }
+      analysis.robot_from_scanner = robot_from_scanner;
+    }
+    selectGround(analysis, params.ground);
+  } else if (params.ground.estimate_up == 0) {
+    analysis.reason =
+        "the scan has no pose and estimating its up direction is off (--up none): give the pose "
+        "(--pose/--up) or pick the floor";
+  } else {
+    const UpEstimate estimate = estimateUp(scan, analysis.planes, params.ground);
+    analysis.pose_source = PoseSource::kEstimated;
+    analysis.up_confidence = estimate.confidence;
+    if (estimate.found) {
+      analysis.up = estimate.up;
+      selectGround(analysis, params.ground);
+    } else {
+      analysis.reason = estimate.reason;
+    }
+  }
   clock.stop("ground");
   reportProgress(progress, 0.85);
 

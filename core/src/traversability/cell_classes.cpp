@@ -30,10 +30,18 @@ std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) 
 // An overhang is "too low" when the lowest thing in the way is above this share of the robot.
 constexpr double kOverhangShare = 0.5;
 
+// Whether a map position lies in the robot's box at `pose`, grown by `margin` on every side.
+bool insideBox(const RobotPose& pose, const RobotParams& robot, double x, double y, double margin) {
+  const double dx = x - pose.x, dy = y - pose.y;
+  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+  return std::abs(dx * c + dy * s) <= robot.length / 2 + margin &&
+         std::abs(-dx * s + dy * c) <= robot.width / 2 + margin;
+}
+
 }  // namespace
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
-                          const MapParams& params) {
+                          const MapParams& params, const RobotPose* own_place) {
   const MapInputs& inputs = analysis.inputs;
   const MapGrid& grid = inputs.grid;
   const std::size_t cells = grid.cells();
@@ -63,10 +71,14 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   std::vector<std::uint32_t> blocking_count(cells, 0);
   const float min_height = float(params.obstacle_min_height);
   const float step = float(robot.max_step), top = float(robot.height);
+  auto ownBody = [&](const MapObstacle& o) {
+    return own_place && insideBox(*own_place, robot, o.x, o.y, 0.0);
+  };
   auto blocks = [&](const MapObstacle& o) {
-    return (o.height > step && o.height < top) || o.height < -step;
+    return ((o.height > step && o.height < top) || o.height < -step) && !ownBody(o);
   };
   for (const MapObstacle& o : inputs.obstacles) {
+    if (ownBody(o)) continue;
     if (blocks(o)) {
       lowest_block[o.cell] = std::min(lowest_block[o.cell], std::abs(o.height));
       ++blocking_count[o.cell];
@@ -104,6 +116,21 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
         }
       }
     }
+  }
+
+  // The robot stands on its own place: the floor under it is ground, seen or not.
+  if (own_place) {
+    const double margin = 0.5 * grid.resolution;
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column) {
+        const std::size_t cell = grid.index(column, row);
+        const Eigen::Vector2d centre = grid.centre(column, row);
+        if (blocking_count[cell] != 0 ||
+            !insideBox(*own_place, robot, centre.x(), centre.y(), margin))
+          continue;
+        classes.state[cell] = CellState::kGround;
+        classes.reason[cell] = CellReason::kNone;
+      }
   }
 
   // Blocking points in CSR layout for the exact narrow-passage check.

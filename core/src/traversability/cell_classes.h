@@ -24,7 +24,11 @@ struct CellClasses {
   std::vector<int> accepted_ground;
 };
 
+// With `own_place`, the robot stands there: returns inside its box are its own body and are
+// dropped, and the cells under it (to the half cell the coarse test adds) are ground. Unobserved
+// floor around it stays unknown: a scanner that sees one hemisphere cannot tell the floor its body
+// hid from a wall behind it.
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
-                          const MapParams& params);
+                          const MapParams& params, const RobotPose* own_place = nullptr);
 
 }  // namespace clearway::detail

@@ -13,6 +13,7 @@
 
 #include "../segmentation/parallel.h"
 #include "cell_classes.h"
+#include "reachability_search.h"
 
 namespace clearway {
 namespace {
@@ -82,6 +83,23 @@ struct Footprints {
   double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
 };
 
+// Orientations closer than this are one [rad].
+constexpr double kSameYaw = 1e-2;
+// Orientation indices are bytes, 255 meaning "none fits".
+constexpr std::size_t kMaxOrientations = 250;
+
+// Index of `yaw` (modulo 180 deg) in `yaws`, appended when new; -1 when the list is full.
+int orientationIndex(std::vector<double>& yaws, double yaw) {
+  yaw = std::fmod(std::fmod(yaw, std::numbers::pi) + std::numbers::pi, std::numbers::pi);
+  for (std::size_t k = 0; k < yaws.size(); ++k) {
+    const double difference = std::abs(yaws[k] - yaw);
+    if (std::min(difference, std::numbers::pi - difference) < kSameYaw) return int(k);
+  }
+  if (yaws.size() >= kMaxOrientations) return -1;
+  yaws.push_back(yaw);
+  return int(yaws.size()) - 1;
+}
+
 // Uniform orientations plus, for every wall, its own direction and the one square to it.
 std::vector<double> orientationsToTry(const ScanAnalysis& analysis, int uniform) {
   std::vector<double> yaws;
@@ -93,14 +111,8 @@ std::vector<double> orientationsToTry(const ScanAnalysis& analysis, int uniform)
     const Eigen::Vector3d normal = rotation * plane.normal;
     if (normal.head<2>().norm() < 0.7) continue;  // not a standing wall
     const double along_normal = std::atan2(normal.y(), normal.x());
-    for (double yaw : {along_normal, along_normal + std::numbers::pi / 2}) {
-      yaw = std::fmod(yaw + 2 * std::numbers::pi, std::numbers::pi);
-      const bool known = std::any_of(yaws.begin(), yaws.end(), [&](double other) {
-        const double difference = std::abs(other - yaw);
-        return std::min(difference, std::numbers::pi - difference) < 1e-2;
-      });
-      if (!known && yaws.size() < 250) yaws.push_back(yaw);
-    }
+    for (double yaw : {along_normal, along_normal + std::numbers::pi / 2})
+      orientationIndex(yaws, yaw);
   }
   return yaws;
 }
@@ -341,7 +353,12 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   MapParams grid_params = params;
   grid_params.resolution = map.grid.resolution;  // the grid was made with the analysis' resolution
 
-  const CellClasses classes = detail::classifyCells(analysis, robot, grid_params);
+  // The robot stands at its own pose, in its own heading: that orientation is always tried.
+  map.yaws = orientationsToTry(analysis, params.orientations);
+  map.robot_pose = robotPoseOnMap(analysis, robot, map.yaws);
+  map.robot_orientation = orientationIndex(map.yaws, map.robot_pose.yaw);
+
+  const CellClasses classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose);
   map.accepted_ground = classes.accepted_ground;
   reportProgress(progress, 0.3);
 
@@ -395,7 +412,6 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   clearance -= 1.0F;
   lenient_clearance -= 1.0F;
 
-  map.yaws = orientationsToTry(analysis, params.orientations);
   const Footprints footprints = makeFootprints(robot, grid_params, map.yaws, threads);
   const int orientations = int(map.yaws.size());
   const FootprintTester tester(map.grid, classes, clearance, lenient_clearance, tolerated,
@@ -457,6 +473,27 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
       });
   for (std::uint8_t label : map.labels)
     ++map.counts[label];
+  reportProgress(progress, 0.8);
+
+  // Where the robot can get from its own pose: the same tests as above, one pose at a time.
+  detail::searchReachable(map, [&](int column, int row, int k) {
+    const CellState state = classes.state[map.grid.index(column, row)];
+    if (state == CellState::kUnknown || state == CellState::kBlocked) return PoseFit::kBlocked;
+    const float free_radius = clearance.at<float>(row, column);
+    if (free_radius > footprints.outer_radius) return PoseFit::kClear;
+    if (free_radius >= footprints.inner_radius + 0.5F && tester.fitsEnlarged(column, row, k))
+      return PoseFit::kClear;
+    if (lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 2.3F &&
+        tester.fitsExactlyInCell(column, row, k))
+      return PoseFit::kCareful;
+    return PoseFit::kBlocked;
+  });
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    const auto label = CellLabel(map.labels[cell]);
+    const bool fits = label == CellLabel::kTraversable || label == CellLabel::kCareful ||
+                      label == CellLabel::kObstacle;
+    if (fits && !map.reach[cell]) ++map.fits_not_reachable_cells;
+  }
   reportProgress(progress, 1.0);
   return map;
 }

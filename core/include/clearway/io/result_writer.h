@@ -19,6 +19,8 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
                        const std::string& scan_name);
 void writeLabelsPgm(const TraversabilityMap& map, const std::filesystem::path& file);
 void writeReasonsPgm(const TraversabilityMap& map, const std::filesystem::path& file);
+// 1 where the robot can get from its own pose, 0 elsewhere.
+void writeReachPgm(const TraversabilityMap& map, const std::filesystem::path& file);
 void writeRosMap(const TraversabilityMap& map,
                  const std::filesystem::path& pgm_file);  // + .yaml beside
 void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file);

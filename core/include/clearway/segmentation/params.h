@@ -55,6 +55,13 @@ struct GroundParams {
   // The scanner (the frame's origin) must be at least this far above a ground plane [m]. Negative:
   // some files put their origin at ground level (3DTK, octomap); a ceiling is always higher.
   double min_scanner_height = -0.3;
+  // A scan without a pose gets its up direction estimated from its planes (1), or is refused (0).
+  int estimate_up = 1;
+};
+
+struct ScanParams {
+  // Returns closer than this to the scanner are the robot's own body or the mount [m].
+  double self_hit_radius = 0.3;
 };
 
 struct MapParams {
@@ -71,9 +78,16 @@ struct RobotParams {
   double length = 1.2;    // [m]
   double height = 1.5;    // [m]
   double max_step = 0.1;  // obstacles up to this height are "probably passable" [m]
+  // Where the scanner sits on the robot (robot_from_scanner, seen from above): the scanner's
+  // position in the robot's frame (x forward, y left) and how far its x axis is turned from the
+  // robot's. Places the robot on the map around the scanner's foot.
+  double mount_x = 0.0;        // [m]
+  double mount_y = 0.0;        // [m]
+  double mount_yaw_deg = 0.0;  // [deg]
 };
 
 struct SegmentationParams {
+  ScanParams scan;
   LineParams lines;
   ClusterParams clustering;
   ValidationParams validation;

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,12 @@ struct ScanAnalysis {
   std::size_t candidate_planes = 0;
   ValidatedPlanes planes;                         // kinds are set: ground / wall / ceiling / other
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // gravity's up in the scanner frame
+  // Where `up` came from: the scan's pose (file, sidecar, operator) or the pipeline's estimate.
+  PoseSource pose_source = PoseSource::kNone;
+  double up_confidence = 1.0;  // 1 for a given pose; the estimate's confidence otherwise
+  // The robot's frame seen from the scanner, when acquisition recorded it (a pose sidecar: the
+  // arm's kinematics give robot_from_scanner, the robot's frame standing on its floor).
+  std::optional<Eigen::Isometry3d> robot_from_scanner;
   bool ground_found = false;
   std::string reason;  // why the result cannot be trusted, when it cannot
   int reference_ground = -1;
@@ -95,8 +102,8 @@ struct ScanAnalysis {
 ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int threads = 2,
                          const ProgressCallback& progress = {});
 
-// The up direction the analysis assumes: from the sensor pose when the scan has one (world z
-// seen from the scanner), else the file's own z axis.
+// The up direction a scan's pose gives (world z seen from the scanner); the file's own z axis
+// when it has none (the analysis then estimates it instead: see up_estimation.h).
 Eigen::Vector3d upDirection(const Scan& scan);
 
 // Internal steps, exposed for tests.

@@ -11,6 +11,7 @@
 #include "clearway/progress.h"
 #include "clearway/segmentation/params.h"
 #include "clearway/segmentation/scan_analysis.h"
+#include "clearway/traversability/reachability.h"
 
 namespace clearway {
 
@@ -47,6 +48,16 @@ struct TraversabilityMap {
   std::vector<double> yaws;
   std::array<std::size_t, kCellLabelCount> counts{};
   std::vector<int> accepted_ground;  // ground planes the robot can reach from the reference
+
+  // Where the robot stands (its own cells are ground: it stands on them) and where it can get.
+  RobotPose robot_pose;
+  int robot_orientation = -1;       // index into yaws of the robot's own heading
+  std::vector<std::uint8_t> reach;  // per cell: 1 reachable from the robot's pose, else 0
+  std::size_t reachable_cells = 0;
+  std::size_t fits_not_reachable_cells = 0;  // green/orange cells the robot cannot get to
+  // PoseFit per (cell, orientation), cell-major (cell * yaws.size() + k); tested lazily by the
+  // reachability search, so a goal query finds every reachable pose's fit here.
+  std::vector<std::uint8_t> pose_fit;
 
   CellLabel label(int column, int row) const { return CellLabel(labels[grid.index(column, row)]); }
   double yawDegrees(int column, int row) const;  // NaN where nothing fits

@@ -1,0 +1,47 @@
+#include "pose_options.h"
+
+#include <stdexcept>
+
+#include "clearway/io/scan_io.h"
+
+namespace clearway::cli {
+
+std::set<std::string> withPoseOptions(std::set<std::string> options) {
+  options.insert({"pose", "up", "self-hit-radius"});
+  return options;
+}
+
+LoadedScan loadScanWithPose(const std::filesystem::path& file, const Arguments& arguments,
+                            SegmentationParams& params) {
+  params.scan.self_hit_radius =
+      arguments.number("self-hit-radius", params.scan.self_hit_radius, 0.0, 5.0);
+  PoseRequest request;
+  try {
+    if (const auto pose = arguments.option("pose")) request.pose = parsePoseText(*pose);
+    if (const auto up = arguments.option("up")) {
+      if (*up == "none") {
+        params.ground.estimate_up = 0;
+      } else if (*up == "auto") {
+        params.ground.estimate_up = 1;
+      } else {
+        request.up = parseUpText(*up);
+      }
+    }
+  } catch (const std::invalid_argument& error) {
+    throw UsageError(error.what());
+  }
+  LoadOptions options;
+  options.self_hit_radius = params.scan.self_hit_radius;
+  LoadedScan loaded{loadScan(file, options), {}};
+  loaded.pose = resolveScanPose(loaded.scan, request);
+  return loaded;
+}
+
+std::string describePose(const PoseResolution& pose) {
+  std::string text = "pose: " + std::string(poseSourceName(pose.source));
+  if (!pose.detail.empty()) text += " (" + pose.detail + ")";
+  if (pose.source == PoseSource::kNone) text += "; the up direction is estimated from the scan";
+  return text;
+}
+
+}  // namespace clearway::cli

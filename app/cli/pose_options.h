@@ -1,0 +1,32 @@
+#pragma once
+
+// Command-line options that say where the scanner was (--pose, --up, --self-hit-radius), and the
+// one way every command loads a scan with them: core's resolveScanPose (pose.h).
+
+#include <filesystem>
+#include <set>
+#include <string>
+
+#include "arguments.h"
+#include "clearway/pose.h"
+#include "clearway/segmentation/params.h"
+
+namespace clearway::cli {
+
+std::set<std::string> withPoseOptions(std::set<std::string> options);
+
+struct LoadedScan {
+  Scan scan;
+  PoseResolution pose;
+};
+
+// Loads `file` with params.scan.self_hit_radius (or --self-hit-radius), then applies --pose /
+// --up X,Y,Z, the sidecar and the file's own pose in that order. `--up none` turns the estimate
+// off in `params`, `--up auto` (the default) leaves it on. Throws UsageError for malformed values.
+LoadedScan loadScanWithPose(const std::filesystem::path& file, const Arguments& arguments,
+                            SegmentationParams& params);
+
+// One line for people: "pose: sidecar (garage.pose.json)".
+std::string describePose(const PoseResolution& pose);
+
+}  // namespace clearway::cli

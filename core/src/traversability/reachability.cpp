@@ -1,0 +1,271 @@
+// Where the robot stands and where it can get to: a search over (cell, orientation) states from
+// the robot's own pose. Moves are one cell to any of the eight neighbours keeping the heading
+// (the box fits at both ends, 5 cm apart) and turns on the spot to the next tried orientation
+// where the box fits in both. Turning by one step of the tried orientations (15 deg by default)
+// sweeps the box's corners at most R (1 - cos(step / 2)) beyond the two boxes (6 mm for the LMF),
+// well inside the half cell of margin green cells keep.
+
+#include "clearway/traversability/reachability.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <queue>
+
+#include "clearway/traversability/traversability_map.h"
+#include "reachability_search.h"
+
+namespace clearway {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// Path costs: orange (careful) cells cost this many times a green one, so the path keeps its
+// margin where it can; each turn step costs as much as this much straight driving [m].
+constexpr double kCarefulCostFactor = 3.0;
+constexpr double kTurnCost = 0.05;
+// A path keeps a pose at least every this many cells, besides every turn.
+constexpr int kPathPoseEvery = 10;
+
+constexpr int kNeighbourColumns[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+constexpr int kNeighbourRows[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+
+double wrapHalfTurn(double yaw) {
+  yaw = std::fmod(yaw, kPi);
+  return yaw < 0 ? yaw + kPi : yaw;
+}
+
+}  // namespace
+
+RobotPose robotPoseOnMap(const ScanAnalysis& analysis, const RobotParams& robot,
+                         const std::vector<double>& yaws) {
+  if (analysis.robot_from_scanner) {
+    // The robot's origin and heading as the scanner saw them, carried into the map frame.
+    const Eigen::Isometry3d map_from_robot =
+        analysis.map_from_scanner * analysis.robot_from_scanner->inverse();
+    const Eigen::Vector3d origin = map_from_robot.translation();
+    const Eigen::Vector3d forward = map_from_robot.linear() * Eigen::Vector3d::UnitX();
+    return {origin.x(), origin.y(), std::atan2(forward.y(), forward.x())};
+  }
+  // The scanner's foot is the map origin: the robot's centre lies behind it by the mounting's
+  // offset, turned with the robot.
+  auto poseFacing = [&](double yaw) {
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    return RobotPose{-(c * robot.mount_x - s * robot.mount_y),
+                     -(s * robot.mount_x + c * robot.mount_y), yaw};
+  };
+  const double half_length = robot.length / 2, half_width = robot.width / 2;
+  const double radius =
+      std::hypot(half_length, half_width) + std::hypot(robot.mount_x, robot.mount_y);
+  std::vector<const MapObstacle*> near;
+  for (const MapObstacle& o : analysis.inputs.obstacles)
+    if (o.height > robot.max_step && o.height < robot.height &&
+        std::hypot(double(o.x), double(o.y)) <= radius)
+      near.push_back(&o);
+  std::vector<double> candidates = {-robot.mount_yaw_deg * kPi / 180.0};
+  candidates.insert(candidates.end(), yaws.begin(), yaws.end());
+  RobotPose best = poseFacing(candidates.front());
+  std::size_t fewest = std::numeric_limits<std::size_t>::max();
+  for (double yaw : candidates) {
+    const RobotPose pose = poseFacing(yaw);
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    std::size_t inside = 0;
+    for (const MapObstacle* o : near) {
+      const double dx = o->x - pose.x, dy = o->y - pose.y;
+      inside +=
+          std::abs(dx * c + dy * s) <= half_length && std::abs(-dx * s + dy * c) <= half_width;
+    }
+    if (inside < fewest) {
+      fewest = inside;
+      best = pose;
+    }
+  }
+  return best;
+}
+
+namespace detail {
+
+std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws) {
+  const int count = int(yaws.size());
+  std::vector<int> order(std::size_t(count), 0);
+  for (int k = 0; k < count; ++k)
+    order[std::size_t(k)] = k;
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return wrapHalfTurn(yaws[std::size_t(a)]) < wrapHalfTurn(yaws[std::size_t(b)]);
+  });
+  std::vector<std::vector<int>> neighbours(static_cast<std::size_t>(count));
+  if (count < 2) return neighbours;
+  for (int i = 0; i < count; ++i) {
+    const int here = order[std::size_t(i)];
+    neighbours[std::size_t(here)].push_back(order[std::size_t((i + 1) % count)]);
+    if (count > 2)
+      neighbours[std::size_t(here)].push_back(order[std::size_t((i + count - 1) % count)]);
+  }
+  return neighbours;
+}
+
+void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt) {
+  const MapGrid& grid = map.grid;
+  const std::size_t orientations = map.yaws.size();
+  map.reach.assign(grid.cells(), 0);
+  map.pose_fit.assign(grid.cells() * orientations, std::uint8_t(PoseFit::kUntested));
+  map.reachable_cells = 0;
+  const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  if (orientations == 0 || map.robot_orientation < 0 || !grid.inside(start.x(), start.y())) return;
+  auto fit = [&](int column, int row, int k) {
+    std::uint8_t& memo = map.pose_fit[grid.index(column, row) * orientations + std::size_t(k)];
+    if (memo == std::uint8_t(PoseFit::kUntested)) memo = std::uint8_t(fitAt(column, row, k));
+    return PoseFit(memo);
+  };
+  const std::vector<std::vector<int>> turns = turnNeighbours(map.yaws);
+  std::vector<std::uint8_t> visited(grid.cells() * orientations, 0);
+  struct State {
+    int column, row, k;
+  };
+  std::vector<State> frontier;
+  auto visit = [&](int column, int row, int k) {
+    std::uint8_t& seen = visited[grid.index(column, row) * orientations + std::size_t(k)];
+    if (seen) return;
+    if (fit(column, row, k) == PoseFit::kBlocked) return;
+    seen = 1;
+    frontier.push_back({column, row, k});
+    std::uint8_t& reached = map.reach[grid.index(column, row)];
+    if (!reached) {
+      reached = 1;
+      ++map.reachable_cells;
+    }
+  };
+  // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
+  // off its exact position, touch something just outside its box.
+  std::uint8_t& own = map.pose_fit[grid.index(start.x(), start.y()) * orientations +
+                                   std::size_t(map.robot_orientation)];
+  if (fit(start.x(), start.y(), map.robot_orientation) == PoseFit::kBlocked)
+    own = std::uint8_t(PoseFit::kCareful);
+  visit(start.x(), start.y(), map.robot_orientation);
+  while (!frontier.empty()) {
+    const State state = frontier.back();
+    frontier.pop_back();
+    for (int n = 0; n < 8; ++n) {
+      const int column = state.column + kNeighbourColumns[n], row = state.row + kNeighbourRows[n];
+      if (grid.inside(column, row)) visit(column, row, state.k);
+    }
+    for (int k : turns[std::size_t(state.k)])
+      visit(state.column, state.row, k);
+  }
+}
+
+}  // namespace detail
+
+GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) {
+  GoalResult result;
+  const MapGrid& grid = map.grid;
+  const Eigen::Vector2i goal = grid.cellOf(goal_x, goal_y);
+  if (!grid.inside(goal.x(), goal.y())) {
+    result.reason = "the goal is outside the map";
+    return result;
+  }
+  const std::size_t goal_cell = grid.index(goal.x(), goal.y());
+  const CellLabel label = CellLabel(map.labels[goal_cell]);
+  const bool fits = label == CellLabel::kTraversable || label == CellLabel::kCareful ||
+                    label == CellLabel::kObstacle;
+  if (map.reach.empty() || map.robot_orientation < 0) {
+    result.reason = "the robot's own place is not on the map";
+    return result;
+  }
+  if (!map.reach[goal_cell]) {
+    if (!fits) {
+      const std::string why(reasonName(CellReason(map.reasons[goal_cell])));
+      result.reason = "the robot does not fit at the goal (" + std::string(labelName(label)) +
+                      (why.empty() ? "" : ": " + why) + ")";
+    } else {
+      result.reason = "the robot fits at the goal but cannot get there from where it stands";
+    }
+    return result;
+  }
+
+  const std::size_t orientations = map.yaws.size();
+  const std::vector<std::vector<int>> turns = detail::turnNeighbours(map.yaws);
+  const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  const std::size_t states = grid.cells() * orientations;
+  std::vector<double> cost(states, std::numeric_limits<double>::infinity());
+  std::vector<std::int64_t> previous(states, -1);
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  const std::size_t first =
+      grid.index(start.x(), start.y()) * orientations + std::size_t(map.robot_orientation);
+  cost[first] = 0.0;
+  queue.push({0.0, first});
+  auto passable = [&](std::size_t state) {
+    const auto f = PoseFit(map.pose_fit[state]);
+    return f == PoseFit::kClear || f == PoseFit::kCareful;
+  };
+  std::int64_t reached = -1;
+  while (!queue.empty()) {
+    const auto [here_cost, state] = queue.top();
+    queue.pop();
+    if (here_cost > cost[state]) continue;
+    const std::size_t cell = state / orientations;
+    const int k = int(state % orientations);
+    if (cell == goal_cell) {
+      reached = std::int64_t(state);
+      break;
+    }
+    const int column = int(cell % std::size_t(grid.width)),
+              row = int(cell / std::size_t(grid.width));
+    auto relax = [&](std::size_t next, double step) {
+      if (!passable(next)) return;
+      const double factor =
+          PoseFit(map.pose_fit[next]) == PoseFit::kCareful ? kCarefulCostFactor : 1.0;
+      const double next_cost = here_cost + step * factor;
+      if (next_cost < cost[next]) {
+        cost[next] = next_cost;
+        previous[next] = std::int64_t(state);
+        queue.push({next_cost, next});
+      }
+    };
+    for (int n = 0; n < 8; ++n) {
+      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
+      if (!grid.inside(c, r)) continue;
+      const double step = grid.resolution * (n < 4 ? 1.0 : std::numbers::sqrt2);
+      relax(grid.index(c, r) * orientations + std::size_t(k), step);
+    }
+    for (int other : turns[std::size_t(k)])
+      relax(cell * orientations + std::size_t(other), kTurnCost);
+  }
+  if (reached < 0) {
+    result.reason = "no path found to the goal";
+    return result;
+  }
+  std::vector<std::size_t> chain;
+  for (std::int64_t s = reached; s >= 0; s = previous[std::size_t(s)])
+    chain.push_back(std::size_t(s));
+  std::reverse(chain.begin(), chain.end());
+  result.reachable = true;
+  int since_kept = 0;
+  for (std::size_t i = 0; i < chain.size(); ++i) {
+    const std::size_t cell = chain[i] / orientations;
+    const int k = int(chain[i] % orientations);
+    const int column = int(cell % std::size_t(grid.width)),
+              row = int(cell / std::size_t(grid.width));
+    if (i > 0) {
+      const std::size_t before = chain[i - 1] / orientations;
+      if (before != cell) {
+        const int dc = column - int(before % std::size_t(grid.width));
+        const int dr = row - int(before / std::size_t(grid.width));
+        result.length_m += grid.resolution * std::hypot(double(dc), double(dr));
+      }
+    }
+    const bool turn = i + 1 < chain.size() && int(chain[i + 1] % orientations) != k;
+    const bool turned = i > 0 && int(chain[i - 1] % orientations) != k;
+    if (i == 0 || i + 1 == chain.size() || turn || turned || ++since_kept >= kPathPoseEvery) {
+      const Eigen::Vector2d centre = grid.centre(column, row);
+      result.path.push_back({centre.x(), centre.y(), map.yaws[std::size_t(k)] * 180.0 / kPi});
+      since_kept = 0;
+    }
+  }
+  return result;
+}
+
+}  // namespace clearway

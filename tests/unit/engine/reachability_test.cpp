@@ -1,0 +1,162 @@
+// The robot's own place and "Can it get there?": the robot stands on its own cells, and cells it
+// fits in but cannot get to are told apart from the reachable ones.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "clearway/io/scan_io.h"
+#include "clearway/pose.h"
+#include "clearway/sim/builtin_scenes.h"
+#include "engine_fixtures.h"
+#include "test_support.h"
+
+namespace clearway {
+namespace {
+
+const Eigen::Vector3d kYard{6.5, -1.0, 0.0};  // outside the garage's 0.9 m door (world frame)
+
+SegmentationParams robotOfWidth(double width) {
+  SegmentationParams params;
+  params.robot.width = width;
+  return params;
+}
+
+Eigen::Vector2d mapPosition(const test::SimulatedRun& run, const Eigen::Vector3d& world) {
+  const Eigen::Isometry3d map_from_world =
+      run.result.analysis.map_from_scanner *
+      run.simulated.truth.placement.worldFromScanner().inverse();
+  return (map_from_world * world).head<2>();
+}
+
+bool reachableAt(const TraversabilityMap& map, const Eigen::Vector2d& position) {
+  const Eigen::Vector2i cell = map.grid.cellOf(position.x(), position.y());
+  return map.grid.inside(cell.x(), cell.y()) && map.reach[map.grid.index(cell.x(), cell.y())];
+}
+
+void expectOwnPlaceReachable(const TraversabilityMap& map) {
+  const Eigen::Vector2d robot(map.robot_pose.x, map.robot_pose.y);
+  EXPECT_TRUE(reachableAt(map, robot));
+  EXPECT_GT(map.reachable_cells, 0U);
+}
+
+class OwnPlace : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(OwnPlace, TheRobotsOwnCellsAreReachable) {
+  const auto run = test::simulateAndSegment(GetParam(), 200);
+  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  expectOwnPlaceReachable(run.result.map);
+}
+
+std::vector<std::string> scenesWithGround() {
+  std::vector<std::string> names;
+  for (const std::string& name : sim::builtinSceneNames())
+    if (name != "no-ground") names.push_back(name);
+  return names;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, OwnPlace, ::testing::ValuesIn(scenesWithGround()));
+
+TEST(OwnPlace, TheRobotStandsOnItsOwnCellsInTheRealRoomScan) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, "pcl-room/room_scan1.pcd");
+  Scan scan = loadScan(file);
+  resolveScanPose(scan, {});
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  expectOwnPlaceReachable(result.map);
+  // The robot's own cells are no longer an unknown or blocked blob: they are floor.
+  const TraversabilityMap& map = result.map;
+  const Eigen::Vector2i cell = map.grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  EXPECT_NE(map.label(cell.x(), cell.y()), CellLabel::kUnknown);
+}
+
+TEST(Reachability, TheYardFitsButCannotBeReachedThroughADoorTooNarrow) {
+  const auto run = test::simulateAndSegment("garage", 423, robotOfWidth(0.95));
+  ASSERT_TRUE(run.result.trusted());
+  const TraversabilityMap& map = run.result.map;
+  // Every cell of the yard (beyond the door, world x > 4.6) where the robot fits: none reachable.
+  const Eigen::Isometry3d map_from_world =
+      run.result.analysis.map_from_scanner *
+      run.simulated.truth.placement.worldFromScanner().inverse();
+  const Eigen::Isometry3d world_from_map = map_from_world.inverse();
+  int yard_fits = 0, yard_reachable = 0;
+  Eigen::Vector2d yard(0.0, 0.0);
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const Eigen::Vector2d centre = map.grid.centre(column, row);
+      const Eigen::Vector3d world = world_from_map * Eigen::Vector3d(centre.x(), centre.y(), 0.0);
+      const CellLabel label = map.label(column, row);
+      if (world.x() < 4.6 || (label != CellLabel::kTraversable && label != CellLabel::kCareful))
+        continue;
+      ++yard_fits;
+      yard = centre;
+      yard_reachable += map.reach[map.grid.index(column, row)];
+    }
+  EXPECT_GT(yard_fits, 100) << "the 0.95 m robot fits in the yard";
+  EXPECT_EQ(yard_reachable, 0);
+  EXPECT_GE(map.fits_not_reachable_cells, std::size_t(yard_fits));
+  const GoalResult goal = planPath(map, yard.x(), yard.y());
+  EXPECT_FALSE(goal.reachable);
+  EXPECT_NE(goal.reason.find("cannot get there"), std::string::npos) << goal.reason;
+}
+
+TEST(Reachability, TheSmallRobotGetsAPathThroughTheDoor) {
+  const auto run = test::simulateAndSegment("garage", 423, robotOfWidth(0.85));
+  ASSERT_TRUE(run.result.trusted());
+  const TraversabilityMap& map = run.result.map;
+  const Eigen::Vector2d yard = mapPosition(run, kYard);
+  ASSERT_TRUE(reachableAt(map, yard));
+  const GoalResult goal = planPath(map, yard.x(), yard.y());
+  ASSERT_TRUE(goal.reachable) << goal.reason;
+  ASSERT_GE(goal.path.size(), 2U);
+  // From the robot's pose to the goal's cell, through reachable cells only.
+  EXPECT_NEAR(goal.path.front().x, map.robot_pose.x, map.grid.resolution);
+  EXPECT_NEAR(goal.path.front().y, map.robot_pose.y, map.grid.resolution);
+  EXPECT_NEAR(goal.path.back().x, yard.x(), map.grid.resolution);
+  EXPECT_NEAR(goal.path.back().y, yard.y(), map.grid.resolution);
+  for (const PathPose& pose : goal.path)
+    EXPECT_TRUE(reachableAt(map, {pose.x, pose.y})) << pose.x << ", " << pose.y;
+  const double straight = std::hypot(yard.x() - map.robot_pose.x, yard.y() - map.robot_pose.y);
+  EXPECT_GE(goal.length_m, straight - map.grid.resolution);
+  // Through the 0.9 m door, the robot must be square to the wall: some pose on the way is.
+  const Eigen::Vector2d door = mapPosition(run, {4.1, -1.0, 0.0});
+  double nearest = 1e9;
+  for (const PathPose& pose : goal.path)
+    nearest = std::min(nearest, std::hypot(pose.x - door.x(), pose.y - door.y()));
+  EXPECT_LT(nearest, 0.6) << "the path leaves through the door";
+}
+
+TEST(Reachability, TheWideRobotIsToldWhy) {
+  const auto run = test::simulateAndSegment("garage", 423, robotOfWidth(1.0));
+  ASSERT_TRUE(run.result.trusted());
+  const Eigen::Vector2d yard = mapPosition(run, kYard);
+  const GoalResult goal = planPath(run.result.map, yard.x(), yard.y());
+  EXPECT_FALSE(goal.reachable);
+  EXPECT_FALSE(goal.reason.empty());
+  EXPECT_TRUE(goal.path.empty());
+}
+
+TEST(Reachability, AGoalOutsideTheMapIsRefusedWithAReason) {
+  const auto run = test::simulateAndSegment("garage", 200);
+  const GoalResult goal = planPath(run.result.map, 1e4, 1e4);
+  EXPECT_FALSE(goal.reachable);
+  EXPECT_NE(goal.reason.find("outside the map"), std::string::npos);
+}
+
+TEST(OwnPlace, ReturnsFromTheRobotsBodyDoNotBlockIt) {
+  // A mounting that puts the robot's centre 0.4 m behind the scanner: the robot stands there,
+  // and its own cells are ground whatever the scan saw of them.
+  SegmentationParams params;
+  params.robot.mount_x = 0.4;
+  const auto run = test::simulateAndSegment("garage", 200, params);
+  ASSERT_TRUE(run.result.trusted());
+  const RobotPose& pose = run.result.map.robot_pose;
+  EXPECT_NEAR(std::hypot(pose.x, pose.y), 0.4, 1e-9) << "the robot's centre is 0.4 m off";
+  // ... behind the scanner, along the robot's heading.
+  EXPECT_NEAR(pose.x * std::cos(pose.yaw) + pose.y * std::sin(pose.yaw), -0.4, 1e-9);
+  expectOwnPlaceReachable(run.result.map);
+}
+
+}  // namespace
+}  // namespace clearway
