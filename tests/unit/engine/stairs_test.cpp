@@ -153,6 +153,14 @@ TEST(Stairs, ReportListsEachStaircase) {
   EXPECT_FALSE(flight.contains("reason"));
   EXPECT_EQ(report["cells"]["stairs"].get<std::size_t>(),
             count(run.result.map, CellLabel::kStairs));
+  // The console's hover readout names the flight under the cursor through the per-cell index.
+  const auto& stairs = run.result.analysis.stairs;
+  const auto cell = std::find_if(stairs.cell_staircase.begin(), stairs.cell_staircase.end(),
+                                 [](std::int16_t s) { return s >= 0; });
+  ASSERT_NE(cell, stairs.cell_staircase.end());
+  const std::string text = describeStaircase(stairs.staircases[std::size_t(*cell)], params.robot);
+  EXPECT_NE(text.find("4 steps, rise 17 cm, tread 29 cm"), std::string::npos) << text;
+  EXPECT_NE(text.find("climbable with care"), std::string::npos) << text;
 }
 
 TEST(Stairs, NoStairsWhereThereAreNone) {
