@@ -188,6 +188,38 @@ TEST(Stairs, ASteepRampIsNoStaircase) {
     EXPECT_NE(test::labelAtWorld(run, {x, 0.8, 0.0}), CellLabel::kStairs) << "ramp at " << x;
 }
 
+TEST(Stairs, TheStairAbilityIsARobotParameterOnTheCommandLine) {
+  test::TemporaryDirectory directory;
+  const auto scan = (directory / "h.pcd").string();
+  ASSERT_EQ(test::runCli("simulate hallway --lines 200 -o " + test::shellQuote(scan)).exit_code, 0);
+  const auto out = (directory / "out").string();
+  const auto result = test::runCli("segment " + test::shellQuote(scan) + " -o " +
+                                   test::shellQuote(out) + " --max-stair-rise 0.15");
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const auto report = nlohmann::json::parse(test::readBytes(directory / "out" / "report.json"));
+  ASSERT_EQ(report.at("stairs").size(), 1u);
+  EXPECT_FALSE(report["stairs"][0].at("climbable").get<bool>());
+  EXPECT_NE(report["stairs"][0].at("reason").get<std::string>().find("risers of 17 cm"),
+            std::string::npos);
+  EXPECT_EQ(report.at("cells").at("stairs").get<int>(), 0);
+  EXPECT_DOUBLE_EQ(report.at("params").at("robot").at("max_stair_rise").get<double>(), 0.15);
+  EXPECT_NE(test::runCli("segment " + test::shellQuote(scan) + " -o " + test::shellQuote(out) +
+                         " --max-stair-slope 95")
+                .exit_code,
+            0);
+}
+
+TEST(Stairs, DetectorRangesAreValidated) {
+  SegmentationParams params;
+  params.stairs.min_rise = 0.3;  // above max_rise
+  const auto reasons = params.validate();
+  ASSERT_FALSE(reasons.empty());
+  EXPECT_NE(reasons.front().find("stairs.min_rise"), std::string::npos);
+  EXPECT_DOUBLE_EQ(paramsFromJson(nlohmann::json{{"robot", {{"max_stair_slope_deg", 30.0}}}})
+                       .robot.max_stair_slope_deg,
+                   30.0);
+}
+
 TEST(RealScans, OctomapStaircaseIsMeasuredAndNeverGreen) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, "octomap-stairs/scan.dat");
   const PipelineResult result = runPipeline(loadScan(file), {});
