@@ -86,25 +86,28 @@ class HeightGrid {
   HeightGrid(const Scan& scan, const Eigen::Isometry3d& map_from_scanner, const StairParams& params)
       : cell_(params.cell_size) {
     // The points within reach of the scanner, and the box they span.
-    const Eigen::Vector2d scanner = map_from_scanner.translation().head<2>();
+    const Eigen::Matrix3f rotation = map_from_scanner.linear().cast<float>();
+    const Eigen::Vector3f translation = map_from_scanner.translation().cast<float>();
+    const Eigen::Vector2f scanner = translation.head<2>();
     double reach = params.max_distance;
     // Shrink the search area when the grid could grow too large.
     if (std::pow(2 * reach / cell_, 2) > double(kMaxGridCells))
       reach = std::sqrt(double(kMaxGridCells)) * cell_ / 2;
     points_.reserve(scan.validCount());
-    Eigen::AlignedBox2d box;
+    Eigen::AlignedBox2f box;
     for (std::size_t i = 0; i < scan.size(); ++i) {
       if (!scan.isValid(i)) continue;
       const Point3f& p = scan.points[i];
-      const Eigen::Vector3d m = map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
-      if ((m.head<2>() - scanner).cwiseAbs().maxCoeff() > reach) continue;
+      // Floats: within the search distance they keep better than 0.1 mm.
+      const Eigen::Vector3f m = rotation * Eigen::Vector3f(p.x, p.y, p.z) + translation;
+      if ((m.head<2>() - scanner).cwiseAbs().maxCoeff() > float(reach)) continue;
       box.extend(m.head<2>());
-      points_.push_back({0, float(m.x()), float(m.y()), float(m.z())});
+      points_.push_back({0, m.x(), m.y(), m.z()});
     }
     if (box.isEmpty()) return;
-    origin_ = box.min();
-    width_ = int(std::floor((box.max().x() - origin_.x()) / cell_)) + 1;
-    height_ = int(std::floor((box.max().y() - origin_.y()) / cell_)) + 1;
+    origin_ = box.min().cast<double>();
+    width_ = int(std::floor((double(box.max().x()) - origin_.x()) / cell_)) + 1;
+    height_ = int(std::floor((double(box.max().y()) - origin_.y()) / cell_)) + 1;
     cells_.resize(std::size_t(width_) * std::size_t(height_));
     for (MapPoint& p : points_) {
       const int column = std::min(int((p.x - origin_.x()) / cell_), width_ - 1);
@@ -544,10 +547,21 @@ void classifyStairPoints(const Scan& scan, const ScanAnalysis& analysis,
                          std::vector<PointClass>& classes) {
   const auto& staircases = analysis.stairs.staircases;
   if (staircases.empty()) return;
+  // Most points are nowhere near a flight: one box around all of them rules those out cheaply.
+  Eigen::AlignedBox2f near;
+  for (const Staircase& stairs : staircases)
+    for (const Eigen::Vector2d& corner : stairs.footprint())
+      near.extend(corner.cast<float>());
+  near.extend(near.min() - Eigen::Vector2f::Constant(float(kSurfaceMargin)));
+  near.extend(near.max() + Eigen::Vector2f::Constant(float(kSurfaceMargin)));
+  const Eigen::Matrix3f rotation = analysis.map_from_scanner.linear().cast<float>();
+  const Eigen::Vector3f translation = analysis.map_from_scanner.translation().cast<float>();
   for (std::size_t i = 0; i < scan.size() && i < classes.size(); ++i) {
     if (!scan.isValid(i)) continue;
     const Point3f& p = scan.points[i];
-    const Eigen::Vector3d m = analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+    const Eigen::Vector3f mapped = rotation * Eigen::Vector3f(p.x, p.y, p.z) + translation;
+    if (!near.contains(mapped.head<2>())) continue;
+    const Eigen::Vector3d m = mapped.cast<double>();
     for (const Staircase& stairs : staircases)
       if (stairs.containsPoint(m)) {
         classes[i] = PointClass::kStairs;
