@@ -50,6 +50,22 @@ void expectStairCells(const PipelineResult& result, CellLabel label) {
   EXPECT_GT(covered, 50u);
 }
 
+// No point of the truth's stairs lies on a green cell.
+void expectNoGreenUnderTruthStairs(const test::SimulatedRun& run) {
+  const TraversabilityMap& map = run.result.map;
+  std::size_t checked = 0;
+  for (std::size_t i = 0; i < run.simulated.truth.classes.size(); ++i) {
+    if (run.simulated.truth.classes[i] != PointClass::kStairs) continue;
+    const Point3f& p = run.simulated.scan.points[i];
+    const Eigen::Vector3d m = run.result.analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+    const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
+    if (!map.grid.inside(cell.x(), cell.y())) continue;
+    ++checked;
+    ASSERT_NE(map.label(cell.x(), cell.y()), CellLabel::kTraversable) << "stair point " << i;
+  }
+  EXPECT_GT(checked, 1000u);
+}
+
 TEST(Stairs, HallwayFlightIsFoundWithItsRiseTreadDirectionAndSteps) {
   const auto run = test::simulateAndSegment("hallway", 300);
   ASSERT_TRUE(run.result.trusted());
@@ -62,6 +78,7 @@ TEST(Stairs, HallwayFlightIsFoundWithItsRiseTreadDirectionAndSteps) {
   EXPECT_NEAR(flight.yawDegrees(), worldXYawInMap(run), 5.0);
   EXPECT_NEAR(flight.width(), 1.45, 0.3);
   EXPECT_GE(stairsIou(run), 0.7);
+  expectNoGreenUnderTruthStairs(run);
   // A 30 deg flight of 17 cm risers: the default LMF climbs it, with care.
   expectStairCells(run.result, CellLabel::kStairs);
   EXPECT_GT(count(run.result.map, CellLabel::kStairs), 50u);
@@ -86,6 +103,7 @@ TEST(Stairs, StairwellFlightOfTwelveStepsIsFound) {
   EXPECT_NEAR(flight.tread, 0.29, 0.03);
   EXPECT_NEAR(flight.yawDegrees(), worldXYawInMap(run), 5.0);
   EXPECT_GE(stairsIou(run), 0.7);
+  expectNoGreenUnderTruthStairs(run);
   expectStairCells(run.result, CellLabel::kStairs);
 }
 
@@ -101,6 +119,7 @@ TEST(Stairs, OtherRisersAndTreadsAreMeasuredNotAssumed) {
   EXPECT_NEAR(flight.rise, 0.22, 0.015);
   EXPECT_NEAR(flight.tread, 0.25, 0.03);
   EXPECT_GE(stairsIou(run), 0.7);
+  expectNoGreenUnderTruthStairs(run);
   // Its risers are higher than the LMF's 20 cm: impassable, and the reason says why.
   expectStairCells(run.result, CellLabel::kImpassable);
   for (std::size_t cell = 0; cell < run.result.map.reasons.size(); ++cell) {
