@@ -1,4 +1,4 @@
-// Stair detection (docs/ALGORITHM.md, "Stairs"). Scanner-agnostic: it looks at the scan's points
+// Stair detection (docs/ALGORITHM.md, 4b). Scanner-agnostic: it looks at the scan's points
 // in the map frame, not at how the scan lines cross the flight, so it works for the RoSi's vertical
 // fans and for a nodding scanner's near-horizontal ones alike.
 //
@@ -10,8 +10,9 @@
 // 3. Risers: 8-connected riser cells with the same top height, pieces of one riser (split by a
 //    handrail post) joined, fitted as lines through the riser faces' points; short ones dropped.
 // 4. Flights: from each riser the nearest parallel, overlapping riser ahead must be one tread on
-//    and one rise up; chains of at least min_steps risers are staircases. On a ramp the nearest
-//    "riser" ahead is the next cell, not a tread away, so a ramp is never a staircase.
+//    and one rise up, and what is seen of the strip between them must be near-horizontal (a
+//    tread); chains of at least min_steps risers are staircases. On a ramp the nearest "riser"
+//    ahead is a cell or two away and the surface between climbs, so a ramp is no staircase.
 // 5. Rise and tread are the slopes of the risers' tops and offsets against their index.
 
 #include "clearway/segmentation/stairs.h"
