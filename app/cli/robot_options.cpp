@@ -5,8 +5,8 @@
 namespace clearway::cli {
 
 std::set<std::string> withRobotOptions(std::set<std::string> options) {
-  options.insert(
-      {"robot-width", "robot-length", "robot-height", "max-step", "max-slope", "params", "method"});
+  options.insert({"robot-width", "robot-length", "robot-height", "max-step", "max-slope",
+                  "max-stair-rise", "max-stair-slope", "params", "method"});
   return options;
 }
 
@@ -25,6 +25,10 @@ SegmentationParams paramsFromArguments(const Arguments& arguments) {
   params.robot.max_step = arguments.number("max-step", params.robot.max_step, 0.0, 2.0);
   params.ground.max_slope_deg =
       arguments.number("max-slope", params.ground.max_slope_deg, 0.0, 89.0);
+  params.robot.max_stair_rise =
+      arguments.number("max-stair-rise", params.robot.max_stair_rise, 0.0, 1.0);
+  params.robot.max_stair_slope_deg =
+      arguments.number("max-stair-slope", params.robot.max_stair_slope_deg, 0.0, 89.0);
   if (const auto method = arguments.option("method")) {
     if (*method == "hough")
       params.lines.method = LineMethod::kHough;

@@ -44,6 +44,7 @@ std::vector<PointClass> classifyPoints(const Scan& scan, const ScanAnalysis& ana
         break;
     }
   }
+  classifyStairPoints(scan, analysis, classes);
   return classes;
 }
 

@@ -75,6 +75,34 @@ void BM_AnalyseScan(benchmark::State& state) {
 }
 BENCHMARK(BM_AnalyseScan)->Unit(benchmark::kMillisecond);
 
+// Stair detection alone (docs/ALGORITHM.md, 4b): what it adds to every 76,140-point scan, with
+// no stairs (garage) and with 4 and 12 steps (hallway, stairwell). Read the CPU column.
+const char* const kStairScenes[] = {"garage", "hallway", "stairwell"};
+
+void BM_DetectStairs(benchmark::State& state) {
+  const std::string name = kStairScenes[state.range(0)];
+  const Scan& scan = sceneScan(name, 423);
+  const ScanAnalysis analysis = analyseScan(scan, {}, 2);
+  std::size_t found = 0;
+  for (auto _ : state)
+    found = detectStairs(scan, analysis.map_from_scanner, {}).size();
+  state.SetLabel(name + ", " + std::to_string(found) + " staircase(s)");
+}
+BENCHMARK(BM_DetectStairs)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
+// Classing the points on the flights (part of classifyPoints).
+void BM_ClassifyStairPoints(benchmark::State& state) {
+  const Scan& scan = sceneScan(kStairScenes[state.range(0)], 423);
+  const ScanAnalysis analysis = analyseScan(scan, {}, 2);
+  std::vector<PointClass> classes(scan.size(), PointClass::kNone);
+  for (auto _ : state) {
+    classifyStairPoints(scan, analysis, classes);
+    benchmark::DoNotOptimize(classes.data());
+  }
+  state.SetLabel(kStairScenes[state.range(0)]);
+}
+BENCHMARK(BM_ClassifyStairPoints)->DenseRange(0, 2)->Unit(benchmark::kMillisecond);
+
 // What a robot slider move costs: stages 5-6 on a cached analysis.
 void BM_RerunForNewRobot(benchmark::State& state) {
   const Scan& scan = garageScan(423);

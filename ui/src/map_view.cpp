@@ -75,6 +75,13 @@ QString MapView::describe(double map_x, double map_y) const {
   QString text = QString::fromUtf8(labelName(label).data(), int(labelName(label).size()));
   const auto reason = reasonName(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]));
   if (!reason.empty()) text += ": " + QString::fromUtf8(reason.data(), int(reason.size()));
+  // On a staircase: its steps, rise, tread and direction, and whether this robot climbs it.
+  const auto& stairs = result_->analysis.stairs;
+  if (const int flight = stairs.staircaseAt(map.grid.index(cell.x(), cell.y())); flight >= 0)
+    text += " (" +
+            QString::fromStdString(
+                describeStaircase(stairs.staircases[std::size_t(flight)], result_->robot)) +
+            ")";
   return text;
 }
 
@@ -124,11 +131,10 @@ void MapView::paintEvent(QPaintEvent*) {
   painter.drawText(start + QPointF(0, -6), tr("1 m"));
 
   // Legend, top left.
-  const std::pair<CellLabel, QString> entries[] = {{CellLabel::kTraversable, tr("traversable")},
-                                                   {CellLabel::kCareful, tr("careful")},
-                                                   {CellLabel::kObstacle, tr("obstacle")},
-                                                   {CellLabel::kImpassable, tr("impassable")},
-                                                   {CellLabel::kUnknown, tr("unobserved")}};
+  const std::pair<CellLabel, QString> entries[] = {
+      {CellLabel::kTraversable, tr("traversable")},  {CellLabel::kCareful, tr("careful")},
+      {CellLabel::kObstacle, tr("obstacle")},        {CellLabel::kImpassable, tr("impassable")},
+      {CellLabel::kStairs, tr("stairs, with care")}, {CellLabel::kUnknown, tr("unobserved")}};
   int y = 10;
   for (const auto& [label, name] : entries) {
     const auto rgb = labelColour(label);

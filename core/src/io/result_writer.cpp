@@ -109,6 +109,26 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
   for (int label = 0; label < kCellLabelCount; ++label)
     cells[std::string(labelName(CellLabel(label)))] = result.map.counts[std::size_t(label)];
   report["cells"] = cells;
+  // Staircases in the map frame; index k is the value of ScanAnalysis::stairs.cell_staircase.
+  auto stairs = nlohmann::ordered_json::array();
+  for (const Staircase& flight : analysis.stairs.staircases) {
+    const std::string why = stairVerdict(flight, result.robot);
+    const Eigen::Vector2d foot =
+        flight.start() * flight.up + (flight.across_min + flight.across_max) / 2 * flight.across;
+    nlohmann::ordered_json entry = {{"steps", flight.steps()},
+                                    {"rise", flight.rise},
+                                    {"tread", flight.tread},
+                                    {"direction_deg", flight.yawDegrees()},
+                                    {"slope_deg", flight.slopeDegrees()},
+                                    {"width", flight.width()},
+                                    {"foot", {foot.x(), foot.y()}},
+                                    {"bottom_z", flight.bottom()},
+                                    {"top_z", flight.top()},
+                                    {"climbable", why.empty()}};
+    if (!why.empty()) entry["reason"] = why;
+    stairs.push_back(entry);
+  }
+  report["stairs"] = stairs;
   nlohmann::ordered_json timing;
   for (const StageTiming& stage : result.timings)
     timing[stage.stage] = stage.milliseconds;

@@ -112,6 +112,10 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
   // floor: the grid always holds its own place, whatever robot the map is computed for.
   box.extend(Eigen::Vector2d::Constant(kOwnPlaceExtent));
   box.extend(Eigen::Vector2d::Constant(-kOwnPlaceExtent));
+  // Staircases too: their upper steps may be seen from below only, with no ground around them.
+  for (const Staircase& staircase : analysis.stairs.staircases)
+    for (const Eigen::Vector2d& corner : staircase.footprint())
+      box.extend(corner);
   // A thin rim around the ground, the same for every robot so that a re-run for a new size keeps
   // the grid. Nothing outside it was observed ground, and cells outside the grid count as blocked.
   const double margin = kMapMargin;

@@ -91,6 +91,22 @@ const std::vector<Entry>& entries() {
        [](SegmentationParams& p) -> Field { return &p.map.obstacle_min_height; }},
       {"map.max_extent", "Map half-size around the scanner [m]", 1.0, 500.0,
        [](SegmentationParams& p) -> Field { return &p.map.max_extent; }},
+      {"stairs.cell_size", "Stair height grid cell [m]", 0.02, 0.5,
+       [](SegmentationParams& p) -> Field { return &p.stairs.cell_size; }},
+      {"stairs.min_rise", "Lowest riser of a staircase [m]", 0.02, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.stairs.min_rise; }},
+      {"stairs.max_rise", "Highest riser of a staircase [m]", 0.02, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.stairs.max_rise; }},
+      {"stairs.min_tread", "Shortest tread of a staircase [m]", 0.05, 2.0,
+       [](SegmentationParams& p) -> Field { return &p.stairs.min_tread; }},
+      {"stairs.max_tread", "Longest tread of a staircase [m]", 0.05, 2.0,
+       [](SegmentationParams& p) -> Field { return &p.stairs.max_tread; }},
+      {"stairs.min_steps", "Fewest risers of a staircase", 2, 100,
+       [](SegmentationParams& p) -> Field { return &p.stairs.min_steps; }},
+      {"stairs.min_width", "Narrowest staircase [m]", 0.05, 20.0,
+       [](SegmentationParams& p) -> Field { return &p.stairs.min_width; }},
+      {"stairs.max_distance", "Stairs are looked for this far from the scanner [m]", 1.0, 500.0,
+       [](SegmentationParams& p) -> Field { return &p.stairs.max_distance; }},
       {"robot.width", "Robot width [m]", 0.05, 10.0,
        [](SegmentationParams& p) -> Field { return &p.robot.width; }},
       {"robot.length", "Robot length [m]", 0.05, 20.0,
@@ -105,6 +121,10 @@ const std::vector<Entry>& entries() {
        [](SegmentationParams& p) -> Field { return &p.robot.mount_y; }},
       {"robot.mount_yaw_deg", "Scanner x axis turned from the robot's heading [deg]", -180.0, 180.0,
        [](SegmentationParams& p) -> Field { return &p.robot.mount_yaw_deg; }},
+      {"robot.max_stair_rise", "Highest stair riser the robot climbs [m]", 0.0, 1.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.max_stair_rise; }},
+      {"robot.max_stair_slope_deg", "Steepest flight of stairs the robot climbs [deg]", 0.0, 89.0,
+       [](SegmentationParams& p) -> Field { return &p.robot.max_stair_slope_deg; }},
   };
   return kEntries;
 }
@@ -158,6 +178,12 @@ std::vector<std::string> SegmentationParams::validate() const {
     reasons.push_back("robot.max_step must be lower than robot.height");
   if (map.resolution * 4 > std::min(robot.width, robot.length))
     reasons.push_back("map.resolution must be at most a quarter of the robot's width and length");
+  if (stairs.min_rise >= stairs.max_rise)
+    reasons.push_back("stairs.min_rise must be lower than stairs.max_rise");
+  if (stairs.min_tread >= stairs.max_tread)
+    reasons.push_back("stairs.min_tread must be shorter than stairs.max_tread");
+  if (stairs.cell_size * 2 > stairs.min_tread)
+    reasons.push_back("stairs.cell_size must be at most half of stairs.min_tread");
   if (validation.support_distance < 0.5 * clustering.plane_distance)
     reasons.push_back(
         "validation.support_distance should not be much tighter than clustering.plane_distance");

@@ -90,7 +90,12 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   clock.stop("ground");
   reportProgress(progress, 0.85);
 
+  if (analysis.ground_found)
+    analysis.stairs.staircases = detectStairs(scan, analysis.map_from_scanner, params.stairs);
+  clock.stop("stairs");
+
   prepareMapInputs(scan, params, analysis);
+  analysis.stairs.cell_staircase = staircaseCells(analysis.stairs.staircases, analysis.inputs.grid);
   clock.stop("map_inputs");
   reportProgress(progress, 1.0);
   return analysis;

@@ -304,6 +304,8 @@ std::string_view reasonName(CellReason reason) {
       return "too narrow";
     case CellReason::kOtherLevel:
       return "unreachable level";
+    case CellReason::kStairsTooSteep:
+      return "stairs too steep";
   }
   return "";
 }
@@ -471,6 +473,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
           }
         }
       });
+  labelStairs(analysis, robot, map);  // never green: climbable with care, or impassable
   for (std::uint8_t label : map.labels)
     ++map.counts[label];
   reportProgress(progress, 0.8);

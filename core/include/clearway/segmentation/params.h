@@ -72,6 +72,18 @@ struct MapParams {
   double max_extent = 60.0;           // map half-size limit around the scanner [m]
 };
 
+// Stairs: regular risers and treads (docs/ALGORITHM.md, "Stairs"). Ranges of real stairs.
+struct StairParams {
+  double cell_size = 0.1;  // height grid cell; at most half the shortest tread [m]
+  double min_rise = 0.1;   // riser height range [m] ...
+  double max_rise = 0.25;
+  double min_tread = 0.2;  // ... tread depth range [m]
+  double max_tread = 0.45;
+  int min_steps = 3;           // a staircase has at least this many risers
+  double min_width = 0.3;      // risers shorter than this are not stairs [m]
+  double max_distance = 20.0;  // stairs are looked for this far from the scanner [m]
+};
+
 struct RobotParams {
   std::string name = "LMF smallest";
   double width = 0.85;    // [m]
@@ -84,6 +96,9 @@ struct RobotParams {
   double mount_x = 0.0;        // [m]
   double mount_y = 0.0;        // [m]
   double mount_yaw_deg = 0.0;  // [deg]
+  // Stairs it climbs: the highest riser [m] and the steepest flight [deg] (the LMF: 45 deg).
+  double max_stair_rise = 0.2;
+  double max_stair_slope_deg = 45.0;
 };
 
 struct SegmentationParams {
@@ -93,6 +108,7 @@ struct SegmentationParams {
   ValidationParams validation;
   GroundParams ground;
   MapParams map;
+  StairParams stairs;
   RobotParams robot;
 
   // Empty when usable; otherwise one readable reason per bad value.

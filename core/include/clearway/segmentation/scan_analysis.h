@@ -15,6 +15,7 @@
 #include "clearway/segmentation/line_segments.h"
 #include "clearway/segmentation/params.h"
 #include "clearway/segmentation/planes.h"
+#include "clearway/segmentation/stairs.h"
 
 namespace clearway {
 
@@ -88,6 +89,7 @@ struct ScanAnalysis {
   std::vector<int> ground_planes;  // ground candidates, reference first
   Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
   MapInputs inputs;
+  StairDetection stairs;  // staircases and, per cell of inputs.grid, which one covers it
   std::vector<StageTiming> timings;
 
   // Map height of a ground plane above the map point (x, y): h = c0 + c1 x + c2 y.

@@ -21,7 +21,7 @@ enum class CellLabel : std::uint8_t {
   kCareful = 2,      // orange: fits only with little margin (narrow passage)
   kObstacle = 3,     // orange: a low, probably passable obstacle
   kImpassable = 4,   // red
-  kStairs = 5,       // reserved for stair detection
+  kStairs = 5,       // stairs the robot can climb, with care (else impassable, kStairsTooSteep)
 };
 inline constexpr int kCellLabelCount = 6;
 
@@ -33,6 +33,7 @@ enum class CellReason : std::uint8_t {
   kTooSteep = 3,    // a step or drop higher than the robot can take
   kTooNarrow = 4,   // free, but the robot's box does not fit in any orientation
   kOtherLevel = 5,  // a surface the robot cannot reach (a table top, a platform)
+  kStairsTooSteep = 6,  // stairs whose risers or flight are steeper than the robot climbs
 };
 std::string_view reasonName(CellReason reason);
 std::string_view labelName(CellLabel label);
