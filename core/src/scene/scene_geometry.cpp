@@ -10,6 +10,15 @@ namespace {
 // Obstacle cubes are this big, and there are at most this many of them.
 constexpr float kCubeSize = 0.1F;
 constexpr std::size_t kMaxCubes = 50'000;
+// Wall boxes: 6 cm thick; a plane whose normal is this close to vertical is no wall in the map
+// frame; walls lower than this, or ceilings lower than this, are not drawn / not used for clipping.
+constexpr float kWallHalfThickness = 0.03F;
+constexpr double kMinHorizontalNormal = 0.3;
+constexpr double kMinWallHeight = 0.1;
+// Walls stop this far below the ceiling so the ceiling's points stay visible above them [m].
+constexpr double kCeilingClearance = 0.02;
+// A wall whose supported cells reach this close to the ground is drawn down to it [m].
+constexpr double kSnapToGround = 0.3;
 
 CellLabel labelAt(const TraversabilityMap& map, double x, double y) {
   const Eigen::Vector2i cell = map.grid.cellOf(x, y);
@@ -80,30 +89,70 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
     scene.triangles.push_back({vertex(triangle[0]), vertex(triangle[1]), vertex(triangle[2])});
   }
 
-  // Walls: the supported extent of every wall plane, as a thin red cuboid.
+  // Walls: upright boxes in the map frame, aligned with the wall (its normal projected on the
+  // ground), spanning the wall's supported cells along it, standing on the ground and clipped
+  // below the lowest ceiling. The support image's own in-plane axes are arbitrary, so they only
+  // serve to find the supported cells.
+  const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
+  auto supportedCells = [&](std::size_t k, auto&& visit) {
+    const Plane& plane = analysis.planes.planes[k];
+    const SupportImage& image = analysis.planes.supports[k];
+    for (int r = 0; r < image.height; ++r)
+      for (int c = 0; c < image.width; ++c)
+        if (image.kept[std::size_t(r) * std::size_t(image.width) + std::size_t(c)])
+          visit(map_from_scanner *
+                (plane.normal * plane.offset + image.u_axis * (image.u0 + (c + 0.5) * image.cell) +
+                 image.v_axis * (image.v0 + (r + 0.5) * image.cell)));
+  };
+  double ceiling_height = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
+    if (analysis.planes.planes[k].kind != PlaneKind::kCeiling) continue;
+    double sum = 0.0;
+    std::size_t count = 0;
+    supportedCells(k, [&](const Eigen::Vector3d& p) {
+      sum += p.z();
+      ++count;
+    });
+    if (count > 0 && sum / double(count) > kMinWallHeight)
+      ceiling_height = std::min(ceiling_height, sum / double(count));
+  }
   for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
     const Plane& plane = analysis.planes.planes[k];
     if (plane.kind != PlaneKind::kWall) continue;
-    const SupportImage& image = analysis.planes.supports[k];
-    int c0 = image.width, c1 = -1, r0 = image.height, r1 = -1;
-    for (int r = 0; r < image.height; ++r)
-      for (int c = 0; c < image.width; ++c)
-        if (image.kept[std::size_t(r) * std::size_t(image.width) + std::size_t(c)]) {
-          c0 = std::min(c0, c);
-          c1 = std::max(c1, c);
-          r0 = std::min(r0, r);
-          r1 = std::max(r1, r);
-        }
-    if (c1 < 0) continue;
-    const double u = image.u0 + (c0 + c1 + 1) * image.cell / 2,
-                 v = image.v0 + (r0 + r1 + 1) * image.cell / 2;
+    const Eigen::Vector3d normal = map_from_scanner.linear() * plane.normal;
+    const Eigen::Vector3d across = Eigen::Vector3d(normal.x(), normal.y(), 0.0);
+    if (across.norm() < kMinHorizontalNormal) continue;  // not a wall in the map frame
+    const Eigen::Vector3d out = across.normalized();
+    const Eigen::Vector3d along(-out.y(), out.x(), 0.0);
+    double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, top = -a0, bottom = a0,
+           depth = 0.0;
+    std::size_t count = 0;
+    supportedCells(k, [&](const Eigen::Vector3d& p) {
+      a0 = std::min(a0, p.dot(along));
+      a1 = std::max(a1, p.dot(along));
+      top = std::max(top, p.z());
+      bottom = std::min(bottom, p.z());
+      depth += p.dot(out);
+      ++count;
+    });
+    if (count == 0) continue;
+    const double cell = analysis.planes.supports[k].cell;
+    a0 -= cell / 2;
+    a1 += cell / 2;
+    top = std::min(top + cell / 2, ceiling_height - kCeilingClearance);
+    // A wall seen down to near the ground stands on it (the lowest returns are often shadowed);
+    // one that starts high (a lintel, a shelf's back) keeps its own bottom.
+    bottom = bottom - cell / 2 < kSnapToGround ? 0.0 : bottom - cell / 2;
+    if (top - bottom <= kMinWallHeight) continue;
+    const Eigen::Vector3d centre_in_map = along * (a0 + a1) / 2 + out * (depth / double(count)) +
+                                          Eigen::Vector3d(0, 0, (top + bottom) / 2);
+    Eigen::Matrix3d axes_in_map;
+    axes_in_map << along, out, Eigen::Vector3d::UnitZ();
     SceneBox box;
-    box.center = (plane.normal * plane.offset + image.u_axis * u + image.v_axis * v).cast<float>();
-    box.axes.col(0) = image.u_axis.cast<float>();
-    box.axes.col(1) = image.v_axis.cast<float>();
-    box.axes.col(2) = plane.normal.cast<float>();
-    box.half_size = Eigen::Vector3f(float((c1 - c0 + 1) * image.cell / 2),
-                                    float((r1 - r0 + 1) * image.cell / 2), 0.03F);
+    box.center = (scanner_from_map * centre_in_map).cast<float>();
+    box.axes = (scanner_from_map.linear() * axes_in_map).cast<float>();
+    box.half_size =
+        Eigen::Vector3f(float((a1 - a0) / 2), kWallHalfThickness, float((top - bottom) / 2));
     scene.walls.push_back(box);
   }
 
