@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <limits>
 #include <unordered_set>
+#include <vector>
 
 namespace clearway {
 namespace {
@@ -11,10 +12,11 @@ namespace {
 constexpr float kCubeSize = 0.1F;
 constexpr std::size_t kMaxCubes = 50'000;
 // Wall boxes: 6 cm thick; a plane whose normal is this close to vertical is no wall in the map
-// frame; walls lower than this, or ceilings lower than this, are not drawn / not used for clipping.
+// frame; wall pieces lower than this (a ceiling's crossing), or ceilings lower than this, are not
+// drawn / not used for clipping [m].
 constexpr float kWallHalfThickness = 0.03F;
 constexpr double kMinHorizontalNormal = 0.3;
-constexpr double kMinWallHeight = 0.1;
+constexpr double kMinWallHeight = 0.25;
 // Walls stop this far below the ceiling so the ceiling's points stay visible above them [m].
 constexpr double kCeilingClearance = 0.02;
 // A wall whose supported cells reach this close to the ground is drawn down to it [m].
@@ -90,9 +92,9 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
   }
 
   // Walls: upright boxes in the map frame, aligned with the wall (its normal projected on the
-  // ground), spanning the wall's supported cells along it, standing on the ground and clipped
-  // below the lowest ceiling. The support image's own in-plane axes are arbitrary, so they only
-  // serve to find the supported cells.
+  // ground), one per run of the wall's supported cells along it (so a door stays open), standing
+  // on the ground and clipped below the lowest ceiling. The support image's own in-plane axes are
+  // arbitrary, so they only serve to find the supported cells.
   const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
   auto supportedCells = [&](std::size_t k, auto&& visit) {
     const Plane& plane = analysis.planes.planes[k];
@@ -124,36 +126,66 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
     if (across.norm() < kMinHorizontalNormal) continue;  // not a wall in the map frame
     const Eigen::Vector3d out = across.normalized();
     const Eigen::Vector3d along(-out.y(), out.x(), 0.0);
-    double a0 = std::numeric_limits<double>::infinity(), a1 = -a0, top = -a0, bottom = a0,
-           depth = 0.0;
-    std::size_t count = 0;
-    supportedCells(k, [&](const Eigen::Vector3d& p) {
-      a0 = std::min(a0, p.dot(along));
-      a1 = std::max(a1, p.dot(along));
-      top = std::max(top, p.z());
-      bottom = std::min(bottom, p.z());
-      depth += p.dot(out);
-      ++count;
-    });
-    if (count == 0) continue;
+    // The wall's supported cells in bins along it: each bin's lowest and highest cell. Runs of
+    // bins become boxes; an empty bin (a door, a gap) or a change between standing on the ground
+    // and hanging (a lintel over a door) starts a new box.
     const double cell = analysis.planes.supports[k].cell;
-    a0 -= cell / 2;
-    a1 += cell / 2;
-    top = std::min(top + cell / 2, ceiling_height - kCeilingClearance);
-    // A wall seen down to near the ground stands on it (the lowest returns are often shadowed);
-    // one that starts high (a lintel, a shelf's back) keeps its own bottom.
-    bottom = bottom - cell / 2 < kSnapToGround ? 0.0 : bottom - cell / 2;
-    if (top - bottom <= kMinWallHeight) continue;
-    const Eigen::Vector3d centre_in_map = along * (a0 + a1) / 2 + out * (depth / double(count)) +
-                                          Eigen::Vector3d(0, 0, (top + bottom) / 2);
+    double depth = 0.0, a_min = std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, Eigen::Vector3d>> cells;  // position along, map position
+    supportedCells(k, [&](const Eigen::Vector3d& p) {
+      cells.emplace_back(p.dot(along), p);
+      a_min = std::min(a_min, p.dot(along));
+      depth += p.dot(out);
+    });
+    if (cells.empty()) continue;
+    depth /= double(cells.size());
+    struct Bin {
+      double low = std::numeric_limits<double>::infinity(), high = -low;
+    };
+    std::vector<Bin> bins;
+    for (const auto& [a, p] : cells) {
+      const auto index = std::size_t((a - a_min) / cell);
+      if (index >= bins.size()) bins.resize(index + 1);
+      // Cells at the foot are where the floor crosses the wall's plane, in a doorway too: they
+      // say nothing about whether the wall is there.
+      if (p.z() - cell / 2 < kSnapToGround) continue;
+      bins[index].low = std::min(bins[index].low, p.z() - cell / 2);
+      bins[index].high = std::max(bins[index].high, p.z() + cell / 2);
+    }
+    // Standing: the wall's cells begin right above the foot band.
+    auto standing = [cell](const Bin& bin) { return bin.low < kSnapToGround + 1.5 * cell; };
     Eigen::Matrix3d axes_in_map;
     axes_in_map << along, out, Eigen::Vector3d::UnitZ();
-    SceneBox box;
-    box.center = (scanner_from_map * centre_in_map).cast<float>();
-    box.axes = (scanner_from_map.linear() * axes_in_map).cast<float>();
-    box.half_size =
-        Eigen::Vector3f(float((a1 - a0) / 2), kWallHalfThickness, float((top - bottom) / 2));
-    scene.walls.push_back(box);
+    for (std::size_t first = 0; first < bins.size();) {
+      if (bins[first].high < bins[first].low) {  // empty
+        ++first;
+        continue;
+      }
+      std::size_t last = first;
+      double bottom = bins[first].low, top = bins[first].high;
+      while (last + 1 < bins.size() && bins[last + 1].high >= bins[last + 1].low &&
+             standing(bins[last + 1]) == standing(bins[first])) {
+        ++last;
+        bottom = std::min(bottom, bins[last].low);
+        top = std::max(top, bins[last].high);
+      }
+      // A wall seen down to near the ground stands on it (the lowest returns are often
+      // shadowed); one that starts high (a lintel, a shelf's back) keeps its own bottom.
+      if (standing(bins[first])) bottom = 0.0;
+      top = std::min(top, ceiling_height - kCeilingClearance);
+      const double a0 = a_min + double(first) * cell - cell / 2,
+                   a1 = a_min + double(last + 1) * cell - cell / 2;
+      first = last + 1;
+      if (top - bottom <= kMinWallHeight) continue;
+      const Eigen::Vector3d centre_in_map =
+          along * (a0 + a1) / 2 + out * depth + Eigen::Vector3d(0, 0, (top + bottom) / 2);
+      SceneBox box;
+      box.center = (scanner_from_map * centre_in_map).cast<float>();
+      box.axes = (scanner_from_map.linear() * axes_in_map).cast<float>();
+      box.half_size =
+          Eigen::Vector3f(float((a1 - a0) / 2), kWallHalfThickness, float((top - bottom) / 2));
+      scene.walls.push_back(box);
+    }
   }
 
   // Obstacles: one cube per occupied voxel of points between the ground and the robot's top.
