@@ -10,6 +10,8 @@
 #include <QApplication>
 #include <QCommandLineParser>
 #include <QMouseEvent>
+#include <QSettings>
+#include <QTemporaryDir>
 #include <QTimer>
 #include <cstdio>
 
@@ -19,6 +21,7 @@
 #include "clearway/ui/palette.h"
 #include "clearway/ui/robot_panel.h"
 #include "clearway/ui/scene_view.h"
+#include "clearway/ui/segmentation_session.h"
 
 namespace {
 
@@ -117,6 +120,13 @@ int main(int argc, char** argv) {
   parser.addOption({"deuteranopia", "Save the screenshot as seen with deuteranopia."});
   parser.process(application);
 
+  // A screenshot shows the console as at its first start: settings of its own, not the user's
+  // recent scans, layout or parameters.
+  QTemporaryDir screenshot_settings;
+  if (parser.isSet("screenshot")) {
+    QSettings::setDefaultFormat(QSettings::IniFormat);
+    QSettings::setPath(QSettings::IniFormat, QSettings::UserScope, screenshot_settings.path());
+  }
   clearway::ui::MainWindow window;
   clearway::RobotParams robot = clearway::robotPresets().front();
   if (!readLength(parser, "robot-width", robot.width) ||
@@ -142,6 +152,8 @@ int main(int argc, char** argv) {
     }
     const bool deuteranopia = parser.isSet("deuteranopia");
     QObject::connect(&window, &clearway::ui::MainWindow::resultShown, &application, [&] {
+      // The robot given on the command line may still be re-running: wait for the last result.
+      if (window.session()->busy()) return;
       window.sceneView()->setCameraView(view);
       if (!measure.empty()) measureOnMap(*window.mapView(), measure);
       // Let the window paint the new result before taking the picture.

@@ -109,6 +109,9 @@ vtkSmartPointer<vtkProp> label3d(const QString& text, const Eigen::Vector3d& at,
   label->GetTextProperty()->SetFontSize(size);
   label->GetTextProperty()->SetColor(colour.redF(), colour.greenF(), colour.blueF());
   label->GetTextProperty()->SetJustificationToCentered();
+  // A billboard's bounds are only known once it has been drawn: left out of the camera's
+  // clipping range and framing, they cannot clip the scene away.
+  label->UseBoundsOff();
   return label;
 }
 
@@ -239,19 +242,16 @@ std::vector<vtkSmartPointer<vtkProp>> axesProps() {
       {Eigen::Vector3d::UnitX(), QColor(230, 60, 60)},
       {Eigen::Vector3d::UnitY(), QColor(60, 200, 90)},
       {Eigen::Vector3d::UnitZ(), QColor(80, 140, 255)}};
-  std::vector<vtkSmartPointer<vtkProp>> props;
-  const char* const names[] = {"x", "y", "z"};
-  int k = 0;
+  // Unlabelled: the legend names the colours (billboard labels on the axes' tips glitched under
+  // llvmpipe, drawn stretched down to the view's edge).
   for (const auto& [direction, colour] : axes) {
     const vtkIdType ids[2] = {lines.add(Eigen::Vector3d::Zero(), colour),
                               lines.add(direction, colour)};
     lines.cells->InsertNextCell(2, ids);
-    props.push_back(label3d(names[k++], direction * 1.12, colour, 15));
   }
   auto actor = lines.actor(true);
   actor->GetProperty()->SetLineWidth(4);
-  props.insert(props.begin(), actor);
-  return props;
+  return {actor};
 }
 
 std::vector<vtkSmartPointer<vtkProp>> robotProps(const PathPose& pose, const RobotParams& robot,

@@ -34,6 +34,9 @@ using Props = std::vector<vtkSmartPointer<vtkProp>>;
 // (under most ceilings).
 constexpr double kEyeBehind = 1.5, kEyeHeight = 2.6, kLookAhead = 6.0, kUnderCeiling = 0.3;
 constexpr double kOperatorViewAngle = 60.0;
+// Without a heading from the engine the camera looks at the scene's middle when it is at least
+// this far from the robot [m].
+constexpr double kMinLookDistance = 1.0;
 // Orthographic views leave this margin around the robust extent.
 constexpr double kFrameMargin = 1.15;
 // Far cameras for orthographic views stand this far off the scene [m].
@@ -63,6 +66,7 @@ struct SceneView::Private {
   Props overlays;  // robot, path, selection, measurement, legend, notices
   scene::Bounds robust{-5, 5, -5, 5, -1, 3};
   PathPose robot_pose;
+  bool pose_from_engine = false;  // set once setRobotPose is called
   std::vector<PathPose> path;
   std::vector<std::uint8_t> reachable;
   QString stale_note;
@@ -274,6 +278,7 @@ void SceneView::setPaletteKind(PaletteKind palette) {
 
 void SceneView::setRobotPose(double x, double y, double yaw) {
   d_->robot_pose = {x, y, yaw};
+  d_->pose_from_engine = true;
   rebuildOverlays();
   render();
 }
@@ -375,9 +380,14 @@ void SceneView::setCameraView(CameraView view) {
     case CameraView::kBehind: {
       // Behind and above the robot, looking where it (and the scanner) looks.
       camera->SetParallelProjection(false);
+      // Until the engine gives the robot a heading, look from the robot towards the middle of
+      // what the scanner saw (in a corridor: along it, not into its side wall).
       const PathPose& pose = d_->robot_pose;
-      const Eigen::Vector3d heading(std::cos(pose.yaw), std::sin(pose.yaw), 0.0);
       const Eigen::Vector3d foot(pose.x, pose.y, 0.0);
+      Eigen::Vector3d heading(std::cos(pose.yaw), std::sin(pose.yaw), 0.0);
+      const Eigen::Vector3d to_scene(centre.x() - pose.x, centre.y() - pose.y, 0.0);
+      if (!d_->pose_from_engine && to_scene.norm() > kMinLookDistance)
+        heading = to_scene.normalized();
       const double height = std::max(0.8, std::min(kEyeHeight, b[5] - kUnderCeiling));
       const Eigen::Vector3d eye = foot - kEyeBehind * heading + Eigen::Vector3d(0, 0, height);
       const Eigen::Vector3d focus = foot + kLookAhead * heading;
@@ -420,6 +430,7 @@ void SceneView::resetCamera() {
 
 QImage SceneView::renderedImage() {
   if (!hasRenderer()) return {};
+  d_->renderer->ResetCameraClippingRange();
   d_->window->Render();
   return d_->widget->grabFramebuffer();
 }
