@@ -280,7 +280,8 @@ std::vector<vtkSmartPointer<vtkProp>> robotProps(const PathPose& pose, const Rob
   MeshBuilder edges;
   const Eigen::Vector3d half(robot.length / 2, robot.width / 2, robot.height / 2);
   const Eigen::Vector3d middle(pose.x, pose.y, robot.height / 2);
-  auto corner = [&](int k) {
+  // Returns a vector, not an Eigen expression that would refer to the lambda's dead locals.
+  auto corner = [&](int k) -> Eigen::Vector3d {
     const Eigen::Vector3d sign((k & 1) ? 1. : -1., (k & 2) ? 1. : -1., (k & 4) ? 1. : -1.);
     return middle + axes * sign.cwiseProduct(half);
   };
