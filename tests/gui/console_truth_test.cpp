@@ -217,10 +217,11 @@ class ConsoleTruthTest : public QObject {
     QStringList keys;
     for (QAction* action : window.findChildren<QAction*>())
       if (!action->shortcut().isEmpty()) keys << action->shortcut().toString();
-    for (const QString& expected :
+    for (const char* expected :
          {"Ctrl+1", "Ctrl+2", "Ctrl+3", "Ctrl+4", "Ctrl+Shift+1", "Ctrl+Shift+5", "F5", "Esc",
           "PgUp", "PgDown", "]", "[", "F", "M", "Ctrl+O"})
-      QVERIFY2(keys.contains(expected), qPrintable(expected + " missing from " + keys.join(' ')));
+      QVERIFY2(keys.contains(expected),
+               qPrintable(QString(expected) + " missing from " + keys.join(' ')));
   }
 
   void theWidthShortcutsChangeTheRobot() {
