@@ -165,6 +165,27 @@ class SceneViewRenderTest : public QObject {
              qPrintable(QString::number(differingShare(before, after))));
   }
 
+  void aClickPicksAPointAndTwoClicksMeasure() {
+    view_->setScene(garage_.scan, garage_.result);
+    view_->setCameraView(SceneView::CameraView::kTop);
+    settledImage(*view_);
+    QSignalSpy picked(view_.get(), &SceneView::pointPicked);
+    QSignalSpy measured(view_.get(), &SceneView::measured);
+    view_->setMeasuring(true);
+    // Two places on the garage floor, left of the middle of the top view.
+    const QPoint first(view_->width() / 5, view_->height() / 2);
+    const QPoint second(view_->width() / 5 + 60, view_->height() / 2);
+    QVERIFY(view_->pickAt(first));
+    QVERIFY(view_->pickAt(second));
+    QCOMPARE(picked.count(), 2);
+    const double x0 = picked.at(0).at(0).toDouble(), x1 = picked.at(1).at(0).toDouble();
+    QVERIFY2(x1 > x0, qPrintable(QString("%1 then %2").arg(x0).arg(x1)));  // map x grows right
+    QVERIFY(std::abs(picked.at(0).at(2).toDouble()) < 2.7);  // inside the garage's height
+    QVERIFY(!picked.at(0).at(3).toString().isEmpty());
+    QCOMPARE(measured.count(), 1);
+    QVERIFY(measured.at(0).at(0).toDouble() > 0.1);
+  }
+
   void theRobustExtentIgnoresStrayReturns() {
     view_->setScene(garage_.scan, garage_.result);
     const auto bounds = view_->robustBounds();
