@@ -186,6 +186,36 @@ class SceneViewRenderTest : public QObject {
     QVERIFY(measured.at(0).at(0).toDouble() > 0.1);
   }
 
+  void theRealRoomIsFramedOnItsRobustExtent() {
+    const QString path = CLEARWAY_REAL_DATA_DIR "/pcl-room/room_scan1.pcd";
+    if (!QFile::exists(path)) QSKIP(qPrintable("real scan not found: " + path));
+    clearway::ui::SegmentationSession session;
+    QSignalSpy ready(&session, &clearway::ui::SegmentationSession::resultReady);
+    session.openScan(path);
+    QVERIFY(ready.wait(kTimeoutMs));
+    const auto room = ready.takeFirst().at(0).value<SessionResult>();
+    view_->setScene(room.scan, room.result);
+    // The full extent of the returns in the map frame, stray far ones included.
+    double x0 = 1e9, x1 = -1e9, y0 = 1e9, y1 = -1e9;
+    for (std::size_t i = 0; i < room.scan->size(); ++i) {
+      if (!room.scan->isValid(i)) continue;
+      const auto& p = room.scan->points[i];
+      const Eigen::Vector3d m =
+          room.result->analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+      x0 = std::min(x0, m.x());
+      x1 = std::max(x1, m.x());
+      y0 = std::min(y0, m.y());
+      y1 = std::max(y1, m.y());
+    }
+    const auto robust = view_->robustBounds();
+    const double full_area = (x1 - x0) * (y1 - y0);
+    const double robust_area = (robust[1] - robust[0]) * (robust[3] - robust[2]);
+    qInfo("room: full %.1f x %.1f m, robust %.1f x %.1f m", x1 - x0, y1 - y0, robust[1] - robust[0],
+          robust[3] - robust[2]);
+    QVERIFY2(robust_area < 0.8 * full_area,
+             qPrintable(QString("robust %1 m2 of %2 m2").arg(robust_area).arg(full_area)));
+  }
+
   void theRobustExtentIgnoresStrayReturns() {
     view_->setScene(garage_.scan, garage_.result);
     const auto bounds = view_->robustBounds();
