@@ -147,6 +147,34 @@ class MapViewTest : public QObject {
     QVERIFY(std::isnan(map->passageWidthAt(1.0, -1.0)));
   }
 
+  // Ready for the engine's reachability: free cells out of reach are dimmed, a path is drawn.
+  void cellsOutOfReachAreDimmedAndAPathIsDrawn() {
+    MapView* map = window_->mapView();
+    map->fit();
+    const QRgb green = cellColour(CellLabel::kTraversable, PaletteKind::kColourBlindSafe).rgb();
+    auto countGreen = [&] {
+      int count = 0;
+      const QImage& image = map->image();
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+          count += image.pixel(x, y) == green;
+      return count;
+    };
+    const int all = countGreen();
+    QVERIFY(all > 1000);
+    const std::size_t cells = map->image().width() * std::size_t(map->image().height());
+    map->setReachable(std::vector<std::uint8_t>(cells, 0));
+    QCOMPARE(countGreen(), 0);
+    map->setReachable(std::vector<std::uint8_t>(cells, 1));
+    QCOMPARE(countGreen(), all);
+    map->setReachable({});
+    const QImage before = map->grab().toImage();
+    map->setPath({{1.0, -1.0, 0.0}, {2.0, -1.0, 0.0}, {3.0, -1.0, 0.0}});
+    const QImage after = map->grab().toImage();
+    QVERIFY(before != after);
+    map->setPath({});
+  }
+
   // Defect 6: under deuteranopia (Machado 2009) every pair of classes stays apart.
   void thePaletteStaysDistinctUnderDeuteranopia() {
     const CellLabel labels[] = {CellLabel::kTraversable, CellLabel::kCareful, CellLabel::kObstacle,
