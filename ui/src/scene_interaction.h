@@ -14,7 +14,6 @@ namespace clearway::ui::scene {
 class ConsoleInteractorStyle : public vtkInteractorStyleTrackballCamera {
  public:
   static ConsoleInteractorStyle* New();
-  vtkTypeMacro(ConsoleInteractorStyle, vtkInteractorStyleTrackballCamera)
 
   // Called with the display position of a click.
   std::function<void(int x, int y)> on_click;
@@ -27,6 +26,10 @@ class ConsoleInteractorStyle : public vtkInteractorStyleTrackballCamera {
 
  private:
   int press_[2] = {0, 0};
+
+ public:
+  // Last: the macro takes no semicolon, and clang-format indents what follows it.
+  vtkTypeMacro(ConsoleInteractorStyle, vtkInteractorStyleTrackballCamera)
 };
 
 }  // namespace clearway::ui::scene
