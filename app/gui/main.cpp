@@ -1,18 +1,27 @@
 // clearway: the operator console.
 // clearway [SCAN] [--load SCAN] [--robot-width W] [--robot-length L] [--robot-height H]
-//          [--screenshot PNG]
+//          [--screenshot PNG [--size WxH] [--view operator|top|front|side]]
+//          [--measure X1,Y1,X2,Y2] [--deuteranopia]
 // With --screenshot it loads and segments the scan, renders, saves a picture of the window and
-// exits: 0 when all went well, 1 with a message otherwise.
+// exits: 0 when all went well, 1 with a message otherwise. --size sets the window's size, --view
+// the 3D camera, --measure draws a measured distance on the map, --deuteranopia saves the picture
+// as a person with deuteranopia would see it (Machado 2009), so screenshots are reproducible.
 
 #include <QApplication>
 #include <QCommandLineParser>
+#include <QMouseEvent>
+#include <QSettings>
+#include <QTemporaryDir>
 #include <QTimer>
 #include <cstdio>
 
 #include "clearway/memory_tuning.h"
 #include "clearway/ui/main_window.h"
+#include "clearway/ui/map_view.h"
+#include "clearway/ui/palette.h"
 #include "clearway/ui/robot_panel.h"
 #include "clearway/ui/scene_view.h"
+#include "clearway/ui/segmentation_session.h"
 
 namespace {
 
@@ -26,6 +35,64 @@ bool readLength(const QCommandLineParser& parser, const QString& name, double& v
   }
   value = parsed;
   return true;
+}
+
+bool readSize(const QCommandLineParser& parser, QSize& size) {
+  if (!parser.isSet("size")) return true;
+  const QStringList parts = parser.value("size").split('x');
+  bool ok_w = false, ok_h = false;
+  if (parts.size() == 2) size = QSize(parts[0].toInt(&ok_w), parts[1].toInt(&ok_h));
+  if (!ok_w || !ok_h || size.width() < 320 || size.height() < 240) {
+    std::fprintf(stderr, "clearway: --size needs WIDTHxHEIGHT in pixels, at least 320x240\n");
+    return false;
+  }
+  return true;
+}
+
+bool readView(const QCommandLineParser& parser, clearway::ui::SceneView::CameraView& view) {
+  using View = clearway::ui::SceneView::CameraView;
+  const QString name = parser.value("view");
+  if (name.isEmpty() || name == "operator") {
+    view = View::kBehind;
+  } else if (name == "top") {
+    view = View::kTop;
+  } else if (name == "front") {
+    view = View::kFront;
+  } else if (name == "side") {
+    view = View::kSide;
+  } else {
+    std::fprintf(stderr, "clearway: --view must be operator, top, front or side, not '%s'\n",
+                 qPrintable(name));
+    return false;
+  }
+  return true;
+}
+
+bool readMeasure(const QCommandLineParser& parser, std::vector<double>& points) {
+  if (!parser.isSet("measure")) return true;
+  for (const QString& part : parser.value("measure").split(',')) {
+    bool ok = false;
+    points.push_back(part.toDouble(&ok));
+    if (!ok) points.clear();
+  }
+  if (points.size() != 4) {
+    std::fprintf(stderr, "clearway: --measure needs X1,Y1,X2,Y2 in map metres\n");
+    return false;
+  }
+  return true;
+}
+
+// Clicks at two map positions with the measuring tool on, as the operator would.
+void measureOnMap(clearway::ui::MapView& map, const std::vector<double>& points) {
+  map.setMeasuring(true);
+  for (int k = 0; k < 2; ++k) {
+    const QPoint at = map.toWidget(points[2 * k], points[2 * k + 1]).toPoint();
+    QMouseEvent press(QEvent::MouseButtonPress, at, Qt::LeftButton, Qt::LeftButton, Qt::NoModifier);
+    QMouseEvent release(QEvent::MouseButtonRelease, at, Qt::LeftButton, Qt::NoButton,
+                        Qt::NoModifier);
+    QApplication::sendEvent(&map, &press);
+    QApplication::sendEvent(&map, &release);
+  }
 }
 
 }  // namespace
@@ -47,15 +114,31 @@ int main(int argc, char** argv) {
   parser.addOption({"robot-height", "Robot height [m].", "metres"});
   parser.addOption(
       {"screenshot", "Save a picture of the window once the scan is shown, then exit.", "png"});
+  parser.addOption({"size", "Window size for --screenshot, e.g. 1366x768.", "WxH"});
+  parser.addOption({"view", "3D camera: operator (default), top, front or side.", "view"});
+  parser.addOption({"measure", "Measure on the map between two points [m].", "x1,y1,x2,y2"});
+  parser.addOption({"deuteranopia", "Save the screenshot as seen with deuteranopia."});
   parser.process(application);
 
+  // A screenshot shows the console as at its first start: settings of its own, not the user's
+  // recent scans, layout or parameters.
+  QTemporaryDir screenshot_settings;
+  if (parser.isSet("screenshot")) {
+    QSettings::setDefaultFormat(QSettings::IniFormat);
+    QSettings::setPath(QSettings::IniFormat, QSettings::UserScope, screenshot_settings.path());
+  }
   clearway::ui::MainWindow window;
   clearway::RobotParams robot = clearway::robotPresets().front();
   if (!readLength(parser, "robot-width", robot.width) ||
       !readLength(parser, "robot-length", robot.length) ||
       !readLength(parser, "robot-height", robot.height))
     return 2;
+  QSize size;
+  clearway::ui::SceneView::CameraView view = clearway::ui::SceneView::CameraView::kBehind;
+  std::vector<double> measure;
+  if (!readSize(parser, size) || !readView(parser, view) || !readMeasure(parser, measure)) return 2;
   window.setRobot(robot);
+  if (size.isValid()) window.resize(size);
   window.show();
 
   QString scan = parser.value("load");
@@ -67,10 +150,27 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "clearway: --screenshot needs a scan to show\n");
       return 2;
     }
+    const bool deuteranopia = parser.isSet("deuteranopia");
     QObject::connect(&window, &clearway::ui::MainWindow::resultShown, &application, [&] {
+      // The robot given on the command line may still be re-running: wait for the last result.
+      if (window.session()->busy()) return;
+      window.sceneView()->setCameraView(view);
+      if (!measure.empty()) measureOnMap(*window.mapView(), measure);
       // Let the window paint the new result before taking the picture.
-      QTimer::singleShot(100, &application,
-                         [&] { QApplication::exit(window.saveScreenshot(screenshot) ? 0 : 1); });
+      QTimer::singleShot(300, &application, [&] {
+        if (!deuteranopia) {
+          QApplication::exit(window.saveScreenshot(screenshot) ? 0 : 1);
+          return;
+        }
+        const QImage seen = clearway::ui::simulateDeuteranopia(window.grab().toImage());
+        if (!seen.save(screenshot)) {
+          std::fprintf(stderr, "clearway: cannot save the screenshot to %s\n",
+                       qPrintable(screenshot));
+          QApplication::exit(1);
+          return;
+        }
+        QApplication::exit(0);
+      });
     });
     QObject::connect(&window, &clearway::ui::MainWindow::failureShown, &application,
                      [&](const QString& reason) {

@@ -16,6 +16,7 @@
 #include "clearway/sim/rosi_simulator.h"
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/map_view.h"
+#include "clearway/ui/palette.h"
 #include "clearway/ui/robot_panel.h"
 #include "clearway/ui/scene_view.h"
 #include "clearway/ui/segmentation_session.h"
@@ -26,12 +27,15 @@ namespace {
 
 constexpr int kTimeoutMs = 30000;
 
-// Green pixels in the map pane's image: how much the map shows as traversable.
+// Traversable pixels in the map pane's image: how much the map shows as traversable.
+const QRgb kTraversable = clearway::ui::cellColour(clearway::CellLabel::kTraversable,
+                                                   clearway::ui::PaletteKind::kColourBlindSafe)
+                              .rgb();
 int greenPixels(const QImage& image) {
   int count = 0;
   for (int y = 0; y < image.height(); ++y)
     for (int x = 0; x < image.width(); ++x)
-      count += image.pixel(x, y) == qRgb(46, 160, 67);
+      count += image.pixel(x, y) == kTraversable;
   return count;
 }
 

@@ -164,6 +164,7 @@ void HardwarePanel::connectScanner() {
             complete
                 ? tr("Scan saved to %1.").arg(path)
                 : tr("Scan incomplete (%1 lines) saved to %2.").arg(scan->lines.size()).arg(path));
+        d_->progress->reset();  // the next scan starts from an empty bar, not from 99 %
         emit scanSaved(path, complete);
       });
   device->connectDevice();
@@ -174,6 +175,7 @@ void HardwarePanel::startScan() {
   hardware::ScanRequest request;
   request.lines = d_->lines->value();
   d_->progress->setValue(0);
+  emit scanStarted();
   d_->scanner->startScan(request);
 }
 

@@ -1,64 +1,103 @@
 #include "clearway/ui/main_window.h"
 
-#include <QAction>
 #include <QApplication>
-#include <QComboBox>
+#include <QCloseEvent>
 #include <QDockWidget>
 #include <QDragEnterEvent>
 #include <QDropEvent>
 #include <QFileDialog>
 #include <QFileInfo>
-#include <QLabel>
-#include <QMenuBar>
 #include <QMessageBox>
 #include <QMimeData>
-#include <QProgressBar>
-#include <QPushButton>
+#include <QScreen>
+#include <QScrollArea>
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
-#include <QToolBar>
 #include <QVBoxLayout>
+#include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "clearway/scan_summary.h"
-#include "clearway/ui/export_actions.h"
 #include "clearway/ui/hardware_panel.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/parameters_dialog.h"
 #include "clearway/ui/robot_panel.h"
 #include "clearway/ui/scan_panel.h"
 #include "clearway/ui/scene_view.h"
-#include "clearway/ui/segmentation_session.h"
+#include "main_window_private.h"
 
 namespace clearway::ui {
-
 namespace {
-const char* const kParamsKey = "segmentation/params";
-}  // namespace
 
-struct MainWindow::Private {
-  SegmentationSession* session = nullptr;
-  MapView* map = nullptr;
-  SceneView* scene = nullptr;
-  RobotPanel* robot = nullptr;
-  QLabel* banner = nullptr;
-  ScanPanel* scans = nullptr;
-  HardwarePanel* hardware = nullptr;
-  SessionResult shown;
-  QLabel* timings = nullptr;
-  QLabel* hover = nullptr;
-  QProgressBar* progress = nullptr;
-  QPushButton* cancel = nullptr;
-};
+// The first window takes this share of the screen's free area, at most kDefaultSize: it fits
+// 1366x768 with the status bar and every panel on screen.
+constexpr double kScreenShare = 0.92;
+const QSize kDefaultSize(1400, 860);
+// The age of the shown scan is refreshed this often [ms].
+constexpr int kAgeRefreshMs = 15'000;
+
+QString ageInWords(const QDateTime& time) {
+  const qint64 seconds = time.secsTo(QDateTime::currentDateTime());
+  if (seconds < 60) return QObject::tr("less than a minute old");
+  if (seconds < 3600) return QObject::tr("%1 min old").arg(seconds / 60);
+  if (seconds < 86400) return QObject::tr("%1 h old").arg(seconds / 3600);
+  return QObject::tr("%1 days old").arg(seconds / 86400);
+}
+
+QDockWidget* dockFor(QMainWindow* window, QWidget* panel, const QString& title,
+                     const QString& name) {
+  // Panels scroll rather than push the window beyond a small screen.
+  auto* scroll = new QScrollArea(window);
+  scroll->setWidget(panel);
+  scroll->setWidgetResizable(true);
+  scroll->setFrameShape(QFrame::NoFrame);
+  auto* dock = new QDockWidget(title, window);
+  dock->setObjectName(name);
+  dock->setWidget(scroll);
+  return dock;
+}
+
+// The scan in words for the Scan panel, then the raw facts for Details.
+QString humanSummary(const SessionResult& result) {
+  const ScanSummary facts = summarise(*result.scan);
+  QString text = QObject::tr("<b>%1</b><br>%2 points in %3 scan lines")
+                     .arg(QFileInfo(result.scan_path).fileName().toHtmlEscaped())
+                     .arg(QLocale().toString(qulonglong(facts.valid_points)))
+                     .arg(facts.scan_lines);
+  if (result.scan_time.isValid())
+    text += QObject::tr("<br>Taken %1 (%2)")
+                .arg(QLocale().toString(result.scan_time, QLocale::ShortFormat))
+                .arg(ageInWords(result.scan_time));
+  const PipelineResult& pipeline = *result.result;
+  text += pipeline.trusted()
+              ? QObject::tr("<br>Ground found; map of %1 × %2 m at %3 cm cells.")
+                    .arg(pipeline.map.grid.width * pipeline.map.grid.resolution, 0, 'f', 1)
+                    .arg(pipeline.map.grid.height * pipeline.map.grid.resolution, 0, 'f', 1)
+                    .arg(pipeline.map.grid.resolution * 100, 0, 'f', 0)
+              : QObject::tr("<br><b>No ground found</b>: nothing is traversable.");
+  return text;
+}
+
+QString detailsOf(const SessionResult& result) {
+  QString text = QString::fromStdString(toText(summarise(*result.scan)));
+  text += QObject::tr("\nStage timings:\n");
+  for (const StageTiming& stage : result.result->timings)
+    text += QString("  %1  %2 ms\n")
+                .arg(QString::fromStdString(stage.stage))
+                .arg(stage.milliseconds, 0, 'f', 1);
+  text += QObject::tr("  total  %1 ms").arg(result.result->total_ms, 0, 'f', 1);
+  return text;
+}
+
+}  // namespace
 
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_unique<Private>()) {
   setObjectName("mainWindow");
-  setWindowTitle(tr("Clearway"));
   d_->session = new SegmentationSession(this);
 
-  // Centre: the trust banner over the map.
+  // Centre: the trust banner over the two views.
   auto* centre = new QWidget(this);
   auto* layout = new QVBoxLayout(centre);
   layout->setContentsMargins(0, 0, 0, 0);
@@ -69,6 +108,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
       "QLabel { background: #b71c1c; color: white; padding: 8px; font-weight: bold; }");
   d_->banner->hide();
   auto* views = new QSplitter(Qt::Horizontal, centre);
+  views->setObjectName("viewSplitter");
   d_->scene = new SceneView(views);
   d_->map = new MapView(views);
   views->addWidget(d_->scene);
@@ -78,29 +118,25 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   layout->addWidget(views, 1);
   setCentralWidget(centre);
 
-  // Right: robot and scan panels.
+  // Right: the robot on top, scan and scanner as tabs below.
   d_->robot = new RobotPanel(this);
-  auto* robot_dock = new QDockWidget(tr("Robot"), this);
-  robot_dock->setObjectName("robotDock");
-  robot_dock->setWidget(d_->robot);
-  addDockWidget(Qt::RightDockWidgetArea, robot_dock);
   d_->scans = new ScanPanel(this);
-  auto* scan_dock = new QDockWidget(tr("Scan"), this);
-  scan_dock->setObjectName("scanDock");
-  scan_dock->setWidget(d_->scans);
-  addDockWidget(Qt::RightDockWidgetArea, scan_dock);
   d_->hardware = new HardwarePanel(this);
-  auto* hardware_dock = new QDockWidget(tr("Scanner"), this);
-  hardware_dock->setObjectName("hardwareDock");
-  hardware_dock->setWidget(d_->hardware);
+  auto* robot_dock = dockFor(this, d_->robot, tr("Robot"), "robotDock");
+  auto* scan_dock = dockFor(this, d_->scans, tr("Scan"), "scanDock");
+  auto* hardware_dock = dockFor(this, d_->hardware, tr("Scanner"), "hardwareDock");
+  addDockWidget(Qt::RightDockWidgetArea, robot_dock);
+  addDockWidget(Qt::RightDockWidgetArea, scan_dock);
   addDockWidget(Qt::RightDockWidgetArea, hardware_dock);
   tabifyDockWidget(scan_dock, hardware_dock);
   scan_dock->raise();
+  d_->docks = {robot_dock, scan_dock, hardware_dock};
 
-  // Bottom: hover readout, stage timings, progress and cancel.
+  // Bottom: what is under the cursor, the shown scan's age, progress and cancel.
   d_->hover = new QLabel(this);
-  d_->timings = new QLabel(this);
-  d_->timings->setObjectName("timings");
+  d_->hover->setObjectName("hoverText");
+  d_->age = new QLabel(this);
+  d_->age->setObjectName("scanAge");
   d_->progress = new QProgressBar(this);
   d_->progress->setObjectName("progress");
   d_->progress->setMaximumWidth(160);
@@ -109,52 +145,49 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   d_->cancel->setObjectName("cancelButton");
   d_->cancel->hide();
   statusBar()->addWidget(d_->hover, 1);
-  statusBar()->addPermanentWidget(d_->timings);
+  statusBar()->addPermanentWidget(d_->age);
   statusBar()->addPermanentWidget(d_->progress);
   statusBar()->addPermanentWidget(d_->cancel);
 
-  auto* file = menuBar()->addMenu(tr("&File"));
-  QAction* open = file->addAction(tr("&Open scan..."), this, &MainWindow::browseForScan);
-  open->setShortcut(QKeySequence::Open);
-  auto* exports = file->addMenu(tr("&Export"));
-  const std::tuple<QString, ExportKind, QString> kinds[] = {
-      {tr("Map image (PNG)..."), ExportKind::kMapPng, "PNG (*.png)"},
-      {tr("ROS map (PGM + YAML)..."), ExportKind::kRosMap, "PGM (*.pgm)"},
-      {tr("3D scene (PLY)..."), ExportKind::kScenePly, "PLY (*.ply)"},
-      {tr("Report (JSON)..."), ExportKind::kReportJson, "JSON (*.json)"},
-      {tr("3D view screenshot (PNG)..."), ExportKind::kScreenshot3d, "PNG (*.png)"}};
-  for (const auto& [name, kind, filter] : kinds)
-    exports->addAction(name, this, [this, kind = kind, filter = filter, name = name] {
-      const QString path = QFileDialog::getSaveFileName(this, name, {}, filter);
-      if (path.isEmpty()) return;
-      const QString problem = exportResult(kind, d_->shown, d_->session->params(), path, d_->scene);
-      if (!problem.isEmpty()) showFailure(problem);
-    });
-  file->addSeparator();
-  file->addAction(tr("&Quit"), this, &QWidget::close)->setShortcut(QKeySequence::Quit);
-  menuBar()
-      ->addMenu(tr("&Settings"))
-      ->addAction(tr("&Parameters..."), this, &MainWindow::editParameters);
-
+  buildMenus();
   addViewToolBar();
-  connect(d_->map, &MapView::clicked, this, [this](double x, double y) {
-    const auto yaw = d_->map->yawAt(x, y);
-    d_->scene->showRobotAt(x, y, yaw);
+  // A click (not a drag) on the map stands the robot's box there in 3D.
+  connect(d_->map, &MapView::clicked, this,
+          [this](double x, double y) { d_->scene->showRobotAt(x, y, d_->map->yawAt(x, y)); });
+  connect(d_->map, &MapView::left, d_->hover, &QLabel::clear);
+  connect(d_->map, &MapView::hovered, this, [this](double x, double y, const QString& description) {
+    d_->hover->setText(
+        tr("x %1 m, y %2 m: %3").arg(x, 0, 'f', 2).arg(y, 0, 'f', 2).arg(description));
   });
+  const auto show_distance = [this](double metres) {
+    statusBar()->showMessage(tr("Distance: %1 m").arg(metres, 0, 'f', 2));
+  };
+  connect(d_->map, &MapView::measured, this, show_distance);
+  connect(d_->scene, &SceneView::measured, this, show_distance);
+  connect(d_->scene, &SceneView::pointPicked, this,
+          [this](double x, double y, double z, const QString& what) {
+            d_->hover->setText(tr("Picked x %1 m, y %2 m, z %3 m: %4")
+                                   .arg(x, 0, 'f', 2)
+                                   .arg(y, 0, 'f', 2)
+                                   .arg(z, 0, 'f', 2)
+                                   .arg(what));
+          });
   connect(d_->robot, &RobotPanel::robotChanged, d_->session, &SegmentationSession::setRobot);
   connect(d_->robot, &RobotPanel::maxSlopeChanged, this, [this](double degrees) {
     SegmentationParams params = d_->session->params();
     params.ground.max_slope_deg = degrees;
     d_->session->setParams(params);
-    if (!d_->shown.scan_path.isEmpty()) openScan(d_->shown.scan_path);
+    // The ground is chosen again from the scan already loaded: no reload, the camera stays.
+    d_->session->resegment();
   });
   connect(d_->scans, &ScanPanel::openRequested, this, &MainWindow::openScan);
-  // Scan-and-stop: a saved acquisition is segmented and shown at once.
-  connect(d_->hardware, &HardwarePanel::scanSaved, this, [this](const QString& path) {
-    openScan(path);
-    connect(d_->hardware, &HardwarePanel::linesArrived, d_->scene, &SceneView::showArrivingScan);
-  });
   connect(d_->scans, &ScanPanel::browseRequested, this, &MainWindow::browseForScan);
+  // Scan-and-stop: the views grey while a scan is acquired, the 3D view shows it growing, and the
+  // saved acquisition is segmented and shown at once.
+  connect(d_->hardware, &HardwarePanel::scanStarted, this, &MainWindow::markShownAsPrevious);
+  connect(d_->hardware, &HardwarePanel::linesArrived, d_->scene, &SceneView::showArrivingScan);
+  connect(d_->hardware, &HardwarePanel::scanSaved, this,
+          [this](const QString& path) { openScan(path); });
   setAcceptDrops(true);
   connect(d_->cancel, &QPushButton::clicked, d_->session, &SegmentationSession::cancel);
   connect(d_->session, &SegmentationSession::progress, this,
@@ -168,10 +201,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   });
   connect(d_->session, &SegmentationSession::resultReady, this, &MainWindow::showResult);
   connect(d_->session, &SegmentationSession::failed, this, &MainWindow::showFailure);
-  connect(d_->map, &MapView::hovered, this, [this](double x, double y, const QString& description) {
-    d_->hover->setText(
-        tr("x %1 m, y %2 m: %3").arg(x, 0, 'f', 2).arg(y, 0, 'f', 2).arg(description));
-  });
+  d_->age_timer.setInterval(kAgeRefreshMs);
+  connect(&d_->age_timer, &QTimer::timeout, this, &MainWindow::updateAge);
+  d_->age_timer.start();
+
   // Parameters saved by an earlier session (QSettings), then the robot panel's robot.
   SegmentationParams params;
   const QString saved = QSettings().value(kParamsKey).toString();
@@ -182,13 +215,33 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
       params = {};  // unreadable settings: the defaults
     }
   }
+  d_->robot->setEngineParams(params);
   params.robot = d_->robot->robot();
   d_->robot->setMaxSlopeDeg(params.ground.max_slope_deg);
   d_->session->setParams(params);
-  resize(1200, 800);
+  updateTitle();
+  restoreLayout();
 }
 
 MainWindow::~MainWindow() = default;
+
+void MainWindow::restoreLayout() {
+  QSettings settings;
+  if (!restoreGeometry(settings.value(kGeometryKey).toByteArray())) {
+    const QScreen* screen = QGuiApplication::primaryScreen();
+    const QSize available = screen ? screen->availableGeometry().size() : kDefaultSize;
+    resize(std::min(kDefaultSize.width(), int(available.width() * kScreenShare)),
+           std::min(kDefaultSize.height(), int(available.height() * kScreenShare)));
+  }
+  restoreState(settings.value(kStateKey).toByteArray());
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  QSettings settings;
+  settings.setValue(kGeometryKey, saveGeometry());
+  settings.setValue(kStateKey, saveState());
+  QMainWindow::closeEvent(event);
+}
 
 void MainWindow::editParameters() {
   auto* dialog = new ParametersDialog(d_->session->params(), this);
@@ -196,11 +249,12 @@ void MainWindow::editParameters() {
   connect(dialog, &QDialog::accepted, this, [this, dialog] {
     const SegmentationParams params = dialog->params();
     QSettings().setValue(kParamsKey, QString::fromStdString(toJson(params).dump()));
+    d_->robot->setEngineParams(params);
     d_->robot->setRobot(params.robot);
     d_->robot->setMaxSlopeDeg(params.ground.max_slope_deg);
     d_->session->setParams(params);
-    // Stages 1-4 depend on the parameters too: segment the scan again.
-    if (!d_->shown.scan_path.isEmpty()) openScan(d_->shown.scan_path);
+    // Stages 1-4 depend on the parameters too: segment the scan again (no reload).
+    d_->session->resegment();
   });
   dialog->open();
 }
@@ -224,38 +278,6 @@ void MainWindow::dropEvent(QDropEvent* event) {
   if (!urls.isEmpty() && urls.first().isLocalFile()) openScan(urls.first().toLocalFile());
 }
 
-void MainWindow::addViewToolBar() {
-  auto* bar = addToolBar(tr("View"));
-  bar->setObjectName("viewToolBar");
-  using View = SceneView::CameraView;
-  const std::pair<QString, View> views[] = {{tr("Reset view"), View::kBehind},
-                                            {tr("Top"), View::kTop},
-                                            {tr("Front"), View::kFront},
-                                            {tr("Side"), View::kSide}};
-  for (const auto& [name, view] : views)
-    bar->addAction(name, this, [this, view = view] { d_->scene->setCameraView(view); });
-  bar->addSeparator();
-  using Layer = SceneView::Layer;
-  const std::pair<QString, Layer> layers[] = {{tr("Cloud"), Layer::kCloud},
-                                              {tr("Ground"), Layer::kGround},
-                                              {tr("Walls"), Layer::kWalls},
-                                              {tr("Obstacles"), Layer::kObstacles}};
-  for (const auto& [name, layer] : layers) {
-    QAction* action = bar->addAction(name);
-    action->setObjectName("layer" + name);
-    action->setCheckable(true);
-    action->setChecked(true);
-    connect(action, &QAction::toggled, this,
-            [this, layer = layer](bool on) { d_->scene->setLayerVisible(layer, on); });
-  }
-  auto* colour = new QComboBox(bar);
-  colour->setObjectName("cloudColour");
-  colour->addItems({tr("Cloud: remission"), tr("Cloud: height"), tr("Cloud: class")});
-  connect(colour, qOverload<int>(&QComboBox::activated), this,
-          [this](int index) { d_->scene->setCloudColour(SceneView::CloudColour(index)); });
-  bar->addWidget(colour);
-}
-
 void MainWindow::openScan(const QString& path) {
   statusBar()->showMessage(tr("Loading %1 ...").arg(QFileInfo(path).fileName()));
   d_->session->openScan(path);
@@ -264,6 +286,15 @@ void MainWindow::openScan(const QString& path) {
 void MainWindow::setRobot(const RobotParams& robot) {
   d_->robot->setRobot(robot);
 }
+
+void MainWindow::nudgeRobotWidth(double metres) {
+  RobotParams robot = d_->robot->robot();
+  const auto [low, high] = d_->robot->limits("robot.width");
+  robot.width = std::clamp(robot.width + metres, low, high);
+  robot.name = "custom";
+  d_->robot->setRobot(robot);
+}
+
 HardwarePanel* MainWindow::hardwarePanel() const {
   return d_->hardware;
 }
@@ -280,9 +311,52 @@ SegmentationSession* MainWindow::session() const {
   return d_->session;
 }
 
+void MainWindow::markShownAsPrevious() {
+  if (!d_->shown.result) return;
+  d_->shown_is_previous = true;
+  updateAge();
+}
+
+bool MainWindow::shownIsPrevious() const {
+  return d_->shown_is_previous;
+}
+
+void MainWindow::updateAge() {
+  if (!d_->shown.result || !d_->shown.scan_time.isValid()) {
+    d_->age->clear();
+    return;
+  }
+  const QString age = ageInWords(d_->shown.scan_time);
+  d_->age->setText(tr("Scan taken %1, %2")
+                       .arg(QLocale().toString(d_->shown.scan_time.time(), QLocale::ShortFormat))
+                       .arg(age));
+  if (d_->shown_is_previous) {
+    const QString note =
+        tr("Previous scan, %1 — a new scan is being acquired; do not plan on this map.").arg(age);
+    d_->map->setStale(note);
+    d_->scene->setStale(note);
+  }
+}
+
+void MainWindow::updateTitle() {
+  if (!d_->shown.result) {
+    setWindowTitle(tr("Clearway — no scan"));
+    return;
+  }
+  const RobotParams& robot = d_->shown.result->robot;
+  setWindowTitle(tr("%1 — robot %2 (%3 × %4 × %5 m) — Clearway")
+                     .arg(QFileInfo(d_->shown.scan_path).fileName())
+                     .arg(QString::fromStdString(robot.name))
+                     .arg(robot.width, 0, 'f', 2)
+                     .arg(robot.length, 0, 'f', 2)
+                     .arg(robot.height, 0, 'f', 2));
+}
+
 void MainWindow::showResult(const SessionResult& result) {
   const PipelineResult& pipeline = *result.result;
   d_->shown = result;
+  d_->shown_is_previous = false;
+  d_->map->setStale({});
   d_->map->setResult(result.result);
   // An untrusted result still shows the cloud, but its scene has no ground and no boxes.
   d_->scene->setScene(result.scan, result.result);
@@ -290,19 +364,31 @@ void MainWindow::showResult(const SessionResult& result) {
   d_->banner->setVisible(!pipeline.trusted());
   d_->banner->setText(tr("Nothing is shown as traversable: %1")
                           .arg(QString::fromStdString(pipeline.analysis.reason)));
-  d_->scans->setCurrent(result.scan_path, QString::fromStdString(toText(summarise(*result.scan))));
-  QStringList stages;
-  for (const StageTiming& stage : pipeline.timings)
-    stages << QString("%1 %2")
-                  .arg(QString::fromStdString(stage.stage))
-                  .arg(stage.milliseconds, 0, 'f', 1);
-  d_->timings->setText(
-      tr("%1 | total %2 ms").arg(stages.join(", ")).arg(pipeline.total_ms, 0, 'f', 1));
-  statusBar()->showMessage(QFileInfo(result.scan_path).fileName(), 5000);
+  d_->scans->setCurrent(result.scan_path, humanSummary(result), detailsOf(result));
+  statusBar()->showMessage(tr("%1: done in %2 s")
+                               .arg(QFileInfo(result.scan_path).fileName())
+                               .arg(pipeline.total_ms / 1000.0, 0, 'f', 1),
+                           5000);
+  updateTitle();
+  updateAge();
   emit resultShown(pipeline.trusted());
 }
 
+void MainWindow::clearShown() {
+  d_->shown = {};
+  d_->shown_is_previous = false;
+  d_->map->clear();
+  d_->scene->clearScene();
+  d_->banner->hide();
+  d_->scans->clearCurrent();
+  updateTitle();
+  updateAge();
+}
+
 void MainWindow::showFailure(const QString& reason) {
+  // Nothing stays on screen that does not belong to the scan and robot named in the title: the
+  // session dropped its result, so the views drop theirs.
+  if (!d_->session->hasResult()) clearShown();
   statusBar()->showMessage(tr("Failed: %1").arg(reason));
   // Window-modal, not application-modal: nothing waits on it.
   auto* box = new QMessageBox(QMessageBox::Critical, tr("Clearway"), reason, QMessageBox::Ok, this);
@@ -310,6 +396,23 @@ void MainWindow::showFailure(const QString& reason) {
   box->setAttribute(Qt::WA_DeleteOnClose);
   box->open();
   emit failureShown(reason);
+}
+
+QString MainWindow::exportTo(ExportKind kind, const QString& path,
+                             const MapPictureOptions& picture) {
+  const QString file = withExportExtension(path, kind);
+  MapPictureOptions options = picture;
+  options.palette = d_->palette;
+  options.robot = d_->map->robotPose();
+  const QString problem =
+      exportResult(kind, d_->shown, d_->session->params(), file, d_->scene, options);
+  if (!problem.isEmpty()) {
+    showFailure(problem);
+    return problem;
+  }
+  statusBar()->showMessage(tr("Saved %1").arg(file), 10'000);
+  emit exported(file);
+  return {};
 }
 
 bool MainWindow::saveScreenshot(const QString& path) {

@@ -6,25 +6,31 @@
 #include <cmath>
 #include <limits>
 
-#include "clearway/scene/scene_geometry.h"
-
 namespace clearway::ui {
+namespace {
 
-QImage mapImage(const TraversabilityMap& map) {
-  QImage image(std::max(map.grid.width, 1), std::max(map.grid.height, 1), QImage::Format_RGB32);
-  image.fill(QColor(60, 60, 60));
-  for (int row = 0; row < map.grid.height; ++row)
-    for (int column = 0; column < map.grid.width; ++column) {
-      const auto rgb = labelColour(map.label(column, row));
-      image.setPixel(column, map.grid.height - 1 - row, qRgb(rgb[0], rgb[1], rgb[2]));
-    }
-  return image;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The passage readout looks this far each way [m] in this many directions over 180 degrees.
+constexpr double kPassageSearch = 4.0;
+constexpr int kPassageDirections = 16;
+// A press that moves less than this [px] before release is a click, not a drag.
+constexpr int kClickSlopPx = 4;
+
+// What bounds a passage: unobserved cells and red cells with something in the way. Red cells that
+// are only "too narrow" for the robot's centre are free space inside the passage.
+bool blocksPassage(const TraversabilityMap& map, int column, int row) {
+  const CellLabel label = map.label(column, row);
+  if (label == CellLabel::kUnknown) return true;
+  return label == CellLabel::kImpassable &&
+         CellReason(map.reasons[map.grid.index(column, row)]) != CellReason::kTooNarrow;
 }
+
+}  // namespace
 
 MapView::MapView(QWidget* parent) : QWidget(parent) {
   setObjectName("mapView");
   setMouseTracking(true);
-  setMinimumSize(320, 240);
+  setMinimumSize(240, 180);
   setAutoFillBackground(true);
   QPalette palette = this->palette();
   palette.setColor(QPalette::Window, QColor(40, 40, 40));
@@ -33,20 +39,68 @@ MapView::MapView(QWidget* parent) : QWidget(parent) {
 
 void MapView::setResult(std::shared_ptr<const PipelineResult> result) {
   const bool same_grid = result_ && result && result_->map.grid.origin == result->map.grid.origin &&
-                         result_->map.grid.width == result->map.grid.width;
+                         result_->map.grid.width == result->map.grid.width &&
+                         result_->map.grid.height == result->map.grid.height;
   result_ = std::move(result);
-  image_ = result_ ? mapImage(result_->map) : QImage();
-  if (!same_grid) fitted_ = false;  // a new scan: show all of it; a new robot: keep the view
-  if (!fitted_) fitToView();
+  if (!same_grid) {
+    // A new scan: show all of it; its path and reach are not the old scan's.
+    fitted_ = false;
+    path_.clear();
+    reachable_.clear();
+    measure_points_.clear();
+  }
+  rebuildImage();
+  if (!fitted_) fit();
   update();
 }
 
 void MapView::clear() {
   setResult(nullptr);
+  stale_note_.clear();
+  cursor_inside_ = false;
+  update();
 }
 
-void MapView::fitToView() {
-  if (!result_ || image_.isNull()) return;
+void MapView::rebuildImage() {
+  image_ = result_ ? mapImage(result_->map, palette_, reachable_) : QImage();
+}
+
+void MapView::setRobotPose(double x, double y, double yaw) {
+  robot_pose_ = {x, y, yaw};
+  update();
+}
+
+void MapView::setPath(std::vector<PathPose> path) {
+  path_ = std::move(path);
+  update();
+}
+
+void MapView::setReachable(std::vector<std::uint8_t> reachable) {
+  reachable_ = std::move(reachable);
+  rebuildImage();
+  update();
+}
+
+void MapView::setPaletteKind(PaletteKind palette) {
+  palette_ = palette;
+  rebuildImage();
+  update();
+}
+
+void MapView::setStale(const QString& note) {
+  stale_note_ = note;
+  update();
+}
+
+void MapView::setMeasuring(bool on) {
+  measuring_ = on;
+  measure_points_.clear();
+  setCursor(on ? Qt::CrossCursor : Qt::ArrowCursor);
+  update();
+}
+
+void MapView::fit() {
+  if (!result_ || image_.isNull() || width() <= 0 || height() <= 0) return;
   const MapGrid& grid = result_->map.grid;
   const double width_m = grid.width * grid.resolution, height_m = grid.height * grid.resolution;
   pixels_per_metre_ = std::max(1.0, 0.95 * std::min(width() / width_m, height() / height_m));
@@ -55,6 +109,7 @@ void MapView::fitToView() {
   offset_ = QPointF(width() / 2.0 - map_centre.x() * pixels_per_metre_,
                     height() / 2.0 + map_centre.y() * pixels_per_metre_);
   fitted_ = true;
+  update();
 }
 
 QPointF MapView::toMap(const QPointF& widget) const {
@@ -82,67 +137,113 @@ QString MapView::describe(double map_x, double map_y) const {
             QString::fromStdString(
                 describeStaircase(stairs.staircases[std::size_t(flight)], result_->robot)) +
             ")";
+  const double passage = passageWidthAt(map_x, map_y);
+  if (!std::isnan(passage)) text += tr(" — passage %1 m wide").arg(passage, 0, 'f', 2);
   return text;
 }
 
 double MapView::yawAt(double map_x, double map_y) const {
-  if (!result_) return std::numeric_limits<double>::quiet_NaN();
+  if (!result_) return kNaN;
   const Eigen::Vector2i cell = result_->map.grid.cellOf(map_x, map_y);
-  if (!result_->map.grid.inside(cell.x(), cell.y()))
-    return std::numeric_limits<double>::quiet_NaN();
+  if (!result_->map.grid.inside(cell.x(), cell.y())) return kNaN;
   return result_->map.yawDegrees(cell.x(), cell.y());
+}
+
+double MapView::passageWidthAt(double map_x, double map_y) const {
+  if (!result_) return kNaN;
+  const TraversabilityMap& map = result_->map;
+  const Eigen::Vector2i cell = map.grid.cellOf(map_x, map_y);
+  if (!map.grid.inside(cell.x(), cell.y()) || blocksPassage(map, cell.x(), cell.y())) return kNaN;
+  // The passage runs along the direction with the longest free run through the point; its width
+  // is the free run across that direction (both ways to the first blocking cell).
+  const double step = map.grid.resolution / 2;
+  const int max_steps = int(kPassageSearch / step);
+  auto freeRun = [&](double direction) {
+    double total = 0.0;
+    for (const double sign : {1.0, -1.0}) {
+      int k = 1;
+      for (; k <= max_steps; ++k) {
+        const Eigen::Vector2i c = map.grid.cellOf(map_x + sign * k * step * std::cos(direction),
+                                                  map_y + sign * k * step * std::sin(direction));
+        if (!map.grid.inside(c.x(), c.y()) || blocksPassage(map, c.x(), c.y())) break;
+      }
+      total += (k - 0.5) * step;
+    }
+    return total;
+  };
+  double axis = 0.0, longest = -1.0;
+  for (int k = 0; k < kPassageDirections; ++k) {
+    const double direction = k * M_PI / kPassageDirections;
+    const double run = freeRun(direction);
+    if (run > longest) {
+      longest = run;
+      axis = direction;
+    }
+  }
+  const double width = freeRun(axis + M_PI / 2);
+  const double narrowest = width < kNarrowPassage ? width : kNaN;
+  return narrowest;
 }
 
 void MapView::paintEvent(QPaintEvent*) {
   QPainter painter(this);
   if (!result_ || image_.isNull()) {
     painter.setPen(Qt::lightGray);
-    painter.drawText(rect(), Qt::AlignCenter, tr("No traversability map yet"));
+    painter.drawText(rect(), Qt::AlignCenter | Qt::TextWordWrap,
+                     tr("No traversability map.\nOpen a scan (Ctrl+O), drop one here, or acquire "
+                        "one in the Scanner panel."));
     return;
   }
   const MapGrid& grid = result_->map.grid;
+  const QTransform to_widget = mapToPicture(pixels_per_metre_, offset_);
   const QPointF top_left =
       toWidget(grid.origin.x(), grid.origin.y() + grid.height * grid.resolution);
   const QSizeF size(grid.width * grid.resolution * pixels_per_metre_,
                     grid.height * grid.resolution * pixels_per_metre_);
-  painter.drawImage(QRectF(top_left, size), image_);
+  if (isStale()) painter.setOpacity(0.35);
+  painter.drawImage(QRectF(top_left, size),
+                    isStale() ? image_.convertToFormat(QImage::Format_Grayscale8) : image_);
+  painter.setOpacity(1.0);
+  drawMetreGrid(painter, to_widget, rect());
+  drawMapAxes(painter, to_widget);
+  drawPath(painter, to_widget, path_, result_->robot);
+  drawRobot(painter, to_widget, robot_pose_, result_->robot);
+  if (cursor_inside_ && !measuring_) drawFootprintAtCursor(painter);
+  if (measure_points_.size() == 2)
+    drawMeasurement(painter, to_widget, measure_points_[0], measure_points_[1]);
+  else if (measure_points_.size() == 1 && cursor_inside_)
+    drawMeasurement(painter, to_widget, measure_points_[0], cursor_map_);
 
+  drawScaleBar(painter, QPointF(14, height() - 12), pixels_per_metre_);
+  drawLegend(painter, QPoint(10, 10), palette_);
+  drawNorthArrow(painter, QPointF(width() - 24, 44));
+
+  if (isStale()) {
+    const QRect band(0, height() / 2 - 24, width(), 48);
+    painter.fillRect(band, QColor(0, 0, 0, 200));
+    painter.setPen(QColor(255, 210, 80));
+    QFont font = painter.font();
+    font.setBold(true);
+    painter.setFont(font);
+    painter.drawText(band, Qt::AlignCenter | Qt::TextWordWrap, stale_note_);
+  }
+}
+
+void MapView::drawFootprintAtCursor(QPainter& painter) const {
   // The robot's footprint at the cursor, in an orientation that fits there.
-  if (cursor_inside_) {
-    const Eigen::Vector2i cell = grid.cellOf(cursor_map_.x(), cursor_map_.y());
-    if (grid.inside(cell.x(), cell.y())) {
-      const double yaw = result_->map.yawDegrees(cell.x(), cell.y());
-      painter.save();
-      painter.translate(toWidget(cursor_map_.x(), cursor_map_.y()));
-      painter.rotate(-(std::isnan(yaw) ? 0.0 : yaw));
-      painter.setPen(QPen(std::isnan(yaw) ? Qt::red : Qt::white, 1.5));
-      painter.setBrush(Qt::NoBrush);
-      const double length = result_->robot.length * pixels_per_metre_,
-                   width = result_->robot.width * pixels_per_metre_;
-      painter.drawRect(QRectF(-length / 2, -width / 2, length, width));
-      painter.restore();
-    }
-  }
-
-  // Scale bar: one metre, bottom left.
-  painter.setPen(QPen(Qt::white, 2));
-  const QPointF start(12, height() - 14);
-  painter.drawLine(start, start + QPointF(pixels_per_metre_, 0));
-  painter.drawText(start + QPointF(0, -6), tr("1 m"));
-
-  // Legend, top left.
-  const std::pair<CellLabel, QString> entries[] = {
-      {CellLabel::kTraversable, tr("traversable")},  {CellLabel::kCareful, tr("careful")},
-      {CellLabel::kObstacle, tr("obstacle")},        {CellLabel::kImpassable, tr("impassable")},
-      {CellLabel::kStairs, tr("stairs, with care")}, {CellLabel::kUnknown, tr("unobserved")}};
-  int y = 10;
-  for (const auto& [label, name] : entries) {
-    const auto rgb = labelColour(label);
-    painter.fillRect(QRect(10, y, 12, 12), QColor(rgb[0], rgb[1], rgb[2]));
-    painter.setPen(Qt::white);
-    painter.drawText(QPoint(28, y + 11), name);
-    y += 16;
-  }
+  const MapGrid& grid = result_->map.grid;
+  const Eigen::Vector2i cell = grid.cellOf(cursor_map_.x(), cursor_map_.y());
+  if (!grid.inside(cell.x(), cell.y())) return;
+  const double yaw = result_->map.yawDegrees(cell.x(), cell.y());
+  painter.save();
+  painter.translate(toWidget(cursor_map_.x(), cursor_map_.y()));
+  painter.rotate(-(std::isnan(yaw) ? 0.0 : yaw));
+  painter.setPen(QPen(std::isnan(yaw) ? Qt::red : Qt::white, 1.5, Qt::DashLine));
+  painter.setBrush(Qt::NoBrush);
+  const double length = result_->robot.length * pixels_per_metre_,
+               width = result_->robot.width * pixels_per_metre_;
+  painter.drawRect(QRectF(-length / 2, -width / 2, length, width));
+  painter.restore();
 }
 
 void MapView::wheelEvent(QWheelEvent* event) {
@@ -156,15 +257,15 @@ void MapView::wheelEvent(QWheelEvent* event) {
 }
 
 void MapView::mousePressEvent(QMouseEvent* event) {
-  dragging_ = true;
-  last_drag_ = event->pos();
-  const QPointF map = toMap(event->pos());
-  emit clicked(map.x(), map.y());
+  pressed_ = true;
+  dragged_ = false;
+  press_position_ = last_drag_ = event->pos();
 }
 
 void MapView::mouseMoveEvent(QMouseEvent* event) {
-  if (dragging_) {
-    offset_ += event->pos() - last_drag_;
+  if (pressed_) {
+    if ((event->pos() - press_position_).manhattanLength() > kClickSlopPx) dragged_ = true;
+    if (dragged_) offset_ += event->pos() - last_drag_;
     last_drag_ = event->pos();
   }
   cursor_map_ = toMap(event->pos());
@@ -173,12 +274,38 @@ void MapView::mouseMoveEvent(QMouseEvent* event) {
   update();
 }
 
-void MapView::mouseReleaseEvent(QMouseEvent*) {
-  dragging_ = false;
+void MapView::mouseReleaseEvent(QMouseEvent* event) {
+  const bool click = pressed_ && !dragged_;
+  pressed_ = false;
+  if (!click || !result_) return;
+  const QPointF map = toMap(event->pos());
+  if (measuring_) {
+    if (measure_points_.size() == 2) measure_points_.clear();
+    measure_points_.push_back(map);
+    if (measure_points_.size() == 2)
+      emit measured(std::hypot(measure_points_[1].x() - measure_points_[0].x(),
+                               measure_points_[1].y() - measure_points_[0].y()));
+    update();
+    return;
+  }
+  emit clicked(map.x(), map.y());
 }
 
-void MapView::resizeEvent(QResizeEvent*) {
-  if (result_) fitToView();
+void MapView::leaveEvent(QEvent*) {
+  cursor_inside_ = false;
+  emit left();
+  update();
+}
+
+void MapView::resizeEvent(QResizeEvent* event) {
+  // Keep the scale and the map point at the centre; only the very first size fits the map.
+  if (!fitted_) {
+    fit();
+    return;
+  }
+  const QPointF shift(double(event->size().width() - event->oldSize().width()) / 2,
+                      double(event->size().height() - event->oldSize().height()) / 2);
+  if (event->oldSize().isValid()) offset_ += shift;
 }
 
 }  // namespace clearway::ui

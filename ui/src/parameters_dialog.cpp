@@ -4,6 +4,7 @@
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
 #include <QFormLayout>
+#include <QGroupBox>
 #include <QLabel>
 #include <QPushButton>
 #include <QScrollArea>
@@ -11,6 +12,19 @@
 #include <map>
 
 namespace clearway::ui {
+namespace {
+
+QString stageTitle(const std::string& stage) {
+  if (stage == "lines") return QObject::tr("1  Line segments (per scan line)");
+  if (stage == "clustering") return QObject::tr("2  Planes from segments");
+  if (stage == "validation") return QObject::tr("3  Plane validation (support)");
+  if (stage == "ground") return QObject::tr("4  Ground");
+  if (stage == "map") return QObject::tr("5  Traversability map");
+  if (stage == "robot") return QObject::tr("Robot");
+  return QString::fromStdString(stage);
+}
+
+}  // namespace
 
 struct ParametersDialog::Private {
   SegmentationParams params;
@@ -25,13 +39,27 @@ ParametersDialog::ParametersDialog(const SegmentationParams& params, QWidget* pa
   setObjectName("parametersDialog");
   setWindowTitle(tr("Segmentation parameters"));
   d_->params = params;
+  // One group per pipeline stage, each field named in words with its unit; the key stays in the
+  // tool tip for those who edit JSON.
   auto* form_widget = new QWidget(this);
-  auto* form = new QFormLayout(form_widget);
+  auto* groups = new QVBoxLayout(form_widget);
+  std::map<std::string, QFormLayout*> forms;
+  auto formFor = [&](const std::string& key) {
+    const std::string stage = key.substr(0, key.find('.'));
+    if (auto it = forms.find(stage); it != forms.end()) return it->second;
+    auto* box = new QGroupBox(stageTitle(stage), form_widget);
+    box->setObjectName(QString::fromStdString("group_" + stage));
+    auto* form = new QFormLayout(box);
+    groups->addWidget(box);
+    forms[stage] = form;
+    return form;
+  };
   d_->method = new QComboBox(form_widget);
   d_->method->setObjectName("lines_method");
   d_->method->addItems({tr("split and merge"), tr("Hough (the paper's)")});
   d_->method->setCurrentIndex(params.lines.method == LineMethod::kHough ? 1 : 0);
-  form->addRow(tr("lines.method"), d_->method);
+  d_->method->setToolTip("lines.method");
+  formFor("lines.method")->addRow(tr("Line detection method"), d_->method);
   for (const ParameterInfo& info : describeParameters()) {
     auto* spin = new QDoubleSpinBox(form_widget);
     spin->setObjectName(QString::fromStdString(info.key).replace('.', '_'));
@@ -39,14 +67,16 @@ ParametersDialog::ParametersDialog(const SegmentationParams& params, QWidget* pa
     spin->setDecimals(info.integer ? 0 : 3);
     spin->setSingleStep(info.integer ? 1.0 : (info.maximum - info.minimum) / 200.0);
     spin->setValue(parameterValue(params, info.key));
-    spin->setToolTip(tr("%1 (default %2)")
-                         .arg(QString::fromStdString(info.description))
-                         .arg(info.default_value));
-    form->addRow(QString::fromStdString(info.key), spin);
+    spin->setToolTip(
+        tr("%1 (default %2)").arg(QString::fromStdString(info.key)).arg(info.default_value));
+    auto* label = new QLabel(QString::fromStdString(info.description), form_widget);
+    label->setObjectName(spin->objectName() + "_label");
+    formFor(info.key)->addRow(label, spin);
     d_->fields[info.key] = spin;
     connect(spin, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
             &ParametersDialog::refresh);
   }
+  groups->addStretch(1);
   auto* scroll = new QScrollArea(this);
   scroll->setWidget(form_widget);
   scroll->setWidgetResizable(true);

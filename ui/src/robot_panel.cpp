@@ -11,8 +11,11 @@
 namespace clearway::ui {
 namespace {
 
-// Slider steps are centimetres.
+// Slider steps are centimetres; sliders stop at 4 m (the spin boxes too: a larger robot is no
+// robot this console plans for).
 constexpr double kSliderScale = 100.0;
+constexpr double kSliderMaximum = 4.0;
+const char* const kCustom = "custom";
 
 const ParameterInfo& infoFor(const std::vector<ParameterInfo>& infos, const std::string& key) {
   for (const ParameterInfo& info : infos)
@@ -32,6 +35,45 @@ struct RobotPanel::Private {
   QComboBox* presets = nullptr;
   QDoubleSpinBox* max_slope = nullptr;
   std::string name = "custom";
+  SegmentationParams engine;  // the robot is checked against these
+
+  // Candidate values of `key` on the slider's grid the engine accepts with the other dimensions
+  // as they are; the dimension's own parameter-table range when none is (another problem).
+  std::pair<double, double> accepted(const std::string& key, const RobotParams& robot) const {
+    const ParameterInfo info = infoFor(describeParameters(), key);
+    const double top = std::min(info.maximum, kSliderMaximum);
+    std::pair<double, double> range{top, info.minimum};
+    SegmentationParams params = engine;
+    params.robot = robot;
+    for (int step = int(std::ceil(info.minimum * kSliderScale));
+         step <= int(std::floor(top * kSliderScale)); ++step) {
+      setParameterValue(params, key, step / kSliderScale);
+      bool robot_ok = true;
+      for (const std::string& reason : params.validate())
+        if (reason.find("robot") != std::string::npos) robot_ok = false;
+      if (!robot_ok) continue;
+      range.first = std::min(range.first, step / kSliderScale);
+      range.second = std::max(range.second, step / kSliderScale);
+    }
+    if (range.first > range.second) return {info.minimum, top};
+    return range;
+  }
+
+  void updateLimits(const RobotParams& robot) {
+    for (const Dimension& dimension : dimensions) {
+      const auto [low, high] = accepted(dimension.key, robot);
+      const QSignalBlocker block_spin(dimension.spin), block_slider(dimension.slider);
+      dimension.spin->setRange(low, high);
+      dimension.slider->setRange(int(std::lround(low * kSliderScale)),
+                                 int(std::lround(high * kSliderScale)));
+      dimension.slider->setValue(int(std::lround(dimension.spin->value() * kSliderScale)));
+    }
+  }
+
+  void showPresetName() {
+    const int index = presets->findText(QString::fromStdString(name));
+    presets->setCurrentIndex(index >= 0 ? index : presets->findText(kCustom));
+  }
 };
 
 RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Private>()) {
@@ -41,6 +83,7 @@ RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<P
   d_->presets->setObjectName("robotPresets");
   for (const RobotParams& preset : robotPresets())
     d_->presets->addItem(QString::fromStdString(preset.name));
+  d_->presets->addItem(kCustom);
   form->addRow(tr("Preset"), d_->presets);
 
   const auto infos = describeParameters();
@@ -76,7 +119,9 @@ RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<P
             [this, slider = dimension.slider](double value) {
               const QSignalBlocker block(slider);
               slider->setValue(int(std::lround(value * kSliderScale)));
-              d_->name = "custom";
+              d_->name = kCustom;
+              d_->showPresetName();
+              d_->updateLimits(robot());
               emit robotChanged(robot());
             });
   }
@@ -93,8 +138,12 @@ RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<P
   connect(d_->max_slope, qOverload<double>(&QDoubleSpinBox::valueChanged), this,
           &RobotPanel::maxSlopeChanged);
 
-  connect(d_->presets, qOverload<int>(&QComboBox::activated), this,
-          [this](int index) { setRobot(robotPresets()[std::size_t(index)]); });
+  connect(d_->presets, qOverload<int>(&QComboBox::activated), this, [this](int index) {
+    if (std::size_t(index) < robotPresets().size())
+      setRobot(robotPresets()[std::size_t(index)]);
+    else
+      d_->showPresetName();  // "custom" is what the sliders make, not a robot to load
+  });
   setRobot(robotPresets().front());
 }
 
@@ -130,7 +179,24 @@ void RobotPanel::setRobot(const RobotParams& robot) {
     changed = true;
   }
   d_->name = robot.name;
+  d_->showPresetName();
+  d_->updateLimits(this->robot());
   if (changed) emit robotChanged(this->robot());
+}
+
+void RobotPanel::setEngineParams(const SegmentationParams& params) {
+  d_->engine = params;
+  d_->updateLimits(robot());
+}
+
+std::pair<double, double> RobotPanel::limits(const std::string& key) const {
+  for (const auto& dimension : d_->dimensions)
+    if (dimension.key == key) return {dimension.spin->minimum(), dimension.spin->maximum()};
+  throw std::invalid_argument(key);
+}
+
+QString RobotPanel::presetName() const {
+  return d_->presets->currentText();
 }
 
 }  // namespace clearway::ui

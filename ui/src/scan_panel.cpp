@@ -7,6 +7,7 @@
 #include <QListWidget>
 #include <QPushButton>
 #include <QSettings>
+#include <QToolButton>
 #include <QVBoxLayout>
 
 namespace clearway::ui {
@@ -21,6 +22,8 @@ const QStringList kScanPatterns = {"*.pcd", "*.ply", "*.xyz", "*.txt",
 
 struct ScanPanel::Private {
   QLabel* info = nullptr;
+  QToolButton* show_details = nullptr;
+  QLabel* details = nullptr;
   QListWidget* recent = nullptr;
   QPushButton* previous = nullptr;
   QPushButton* next = nullptr;
@@ -46,7 +49,21 @@ ScanPanel::ScanPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Pri
   d_->info->setAlignment(Qt::AlignTop | Qt::AlignLeft);
   d_->info->setTextInteractionFlags(Qt::TextSelectableByMouse);
   d_->info->setWordWrap(true);
-  layout->addWidget(d_->info, 1);
+  layout->addWidget(d_->info);
+  d_->show_details = new QToolButton(this);
+  d_->show_details->setObjectName("scanDetailsToggle");
+  d_->show_details->setText(tr("Details"));
+  d_->show_details->setCheckable(true);
+  d_->show_details->setEnabled(false);
+  layout->addWidget(d_->show_details);
+  d_->details = new QLabel(this);
+  d_->details->setObjectName("scanDetails");
+  d_->details->setAlignment(Qt::AlignTop | Qt::AlignLeft);
+  d_->details->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  d_->details->setWordWrap(true);
+  d_->details->hide();
+  layout->addWidget(d_->details, 1);
+  connect(d_->show_details, &QToolButton::toggled, d_->details, &QWidget::setVisible);
   layout->addWidget(new QLabel(tr("Recent scans"), this));
   d_->recent = new QListWidget(this);
   d_->recent->setObjectName("recentScans");
@@ -75,9 +92,18 @@ QStringList ScanPanel::scansInFolder(const QString& folder) {
   return scans;
 }
 
-void ScanPanel::setCurrent(const QString& path, const QString& summary) {
+void ScanPanel::clearCurrent() {
+  d_->info->setText(tr("No scan shown. Open a scan, or drop one on the window."));
+  d_->details->clear();
+  d_->show_details->setChecked(false);
+  d_->show_details->setEnabled(false);
+}
+
+void ScanPanel::setCurrent(const QString& path, const QString& summary, const QString& details) {
   d_->current = QFileInfo(path).absoluteFilePath();
   d_->info->setText(summary);
+  d_->details->setText(details);
+  d_->show_details->setEnabled(!details.isEmpty());
   QStringList recent = QSettings().value(kRecentKey).toStringList();
   recent.removeAll(d_->current);
   recent.prepend(d_->current);

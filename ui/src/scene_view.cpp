@@ -3,139 +3,49 @@
 #include <QVTKOpenGLNativeWidget.h>
 #include <vtkActor.h>
 #include <vtkCamera.h>
-#include <vtkCellArray.h>
+#include <vtkCellPicker.h>
 #include <vtkGenericOpenGLRenderWindow.h>
-#include <vtkImageData.h>
-#include <vtkInteractorStyleTrackballCamera.h>
 #include <vtkNew.h>
-#include <vtkPointData.h>
-#include <vtkPoints.h>
-#include <vtkPolyData.h>
-#include <vtkPolyDataMapper.h>
+#include <vtkProp.h>
 #include <vtkProperty.h>
 #include <vtkRenderWindowInteractor.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
-#include <vtkSphereSource.h>
-#include <vtkUnsignedCharArray.h>
-#include <vtkWindowToImageFilter.h>
-#include <Eigen/Geometry>
+
 #include <QGuiApplication>
 #include <QImage>
 #include <QLabel>
 #include <QSurfaceFormat>
 #include <QVBoxLayout>
+#include <cmath>
 #include <map>
 
-#include "clearway/scene/scene_geometry.h"
+#include "clearway/point_class.h"
+#include "scene_interaction.h"
+#include "scene_props.h"
 
 namespace clearway::ui {
 namespace {
 
-// Large clouds are thinned for display so the view stays fluid.
-constexpr std::size_t kMaxDisplayedPoints = 400'000;
+using Props = std::vector<vtkSmartPointer<vtkProp>>;
 
-// The cloud, thinned; points the result drew as ground triangles are left out. Coloured by
-// remission (grey), by height along `up` (blue low .. yellow high) or by point class.
-vtkSmartPointer<vtkPolyData> pointCloud(const Scan& scan, const std::vector<PointClass>* classes,
-                                        SceneView::CloudColour mode, const Eigen::Vector3d& up,
-                                        const std::vector<PointClass>* all_classes) {
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  colours->SetNumberOfComponents(3);
-  auto vertices = vtkSmartPointer<vtkCellArray>::New();
-  const std::size_t stride = std::max<std::size_t>(1, scan.size() / kMaxDisplayedPoints);
-  float max_intensity = 1.0F;
-  for (float value : scan.intensity)
-    max_intensity = std::max(max_intensity, value);
-  for (std::size_t i = 0; i < scan.size(); i += stride) {
-    if (!scan.isValid(i)) continue;
-    if (classes && i < classes->size() && (*classes)[i] == PointClass::kGround) continue;
-    const Point3f& p = scan.points[i];
-    const vtkIdType id = points->InsertNextPoint(p.x, p.y, p.z);
-    unsigned char rgb[3];
-    if (mode == SceneView::CloudColour::kHeight) {
-      const double t = std::clamp((Eigen::Vector3d(p.x, p.y, p.z).dot(up) + 2.0) / 5.0, 0.0, 1.0);
-      rgb[0] = static_cast<unsigned char>(40 + 215 * t);
-      rgb[1] = static_cast<unsigned char>(80 + 150 * t);
-      rgb[2] = static_cast<unsigned char>(220 - 180 * t);
-    } else if (mode == SceneView::CloudColour::kClass && all_classes && i < all_classes->size()) {
-      // none, ground, wall, ceiling, obstacle, stairs
-      static constexpr unsigned char kClassColours[6][3] = {{128, 128, 128}, {46, 160, 67},
-                                                            {211, 47, 47},   {120, 144, 156},
-                                                            {245, 140, 20},  {142, 68, 173}};
-      const std::size_t c = std::min<std::size_t>(std::size_t((*all_classes)[i]), 5);
-      for (int k = 0; k < 3; ++k)
-        rgb[k] = kClassColours[c][k];
-    } else {
-      const auto grey = static_cast<unsigned char>(
-          scan.intensity.empty()
-              ? 170
-              : 60 + 170 * std::clamp(scan.intensity[i] / max_intensity, 0.0F, 1.0F));
-      rgb[0] = rgb[1] = rgb[2] = grey;
-    }
-    colours->InsertNextTypedTuple(rgb);
-    vertices->InsertNextCell(1, &id);
-  }
-  auto cloud = vtkSmartPointer<vtkPolyData>::New();
-  cloud->SetPoints(points);
-  cloud->SetVerts(vertices);
-  cloud->GetPointData()->SetScalars(colours);
-  return cloud;
-}
-
-// A coloured mesh of ground triangles (may be empty) and boxes.
-vtkSmartPointer<vtkPolyData> coloredMesh(const SceneGeometry* ground,
-                                         const std::vector<SceneBox>& boxes) {
-  auto points = vtkSmartPointer<vtkPoints>::New();
-  auto colours = vtkSmartPointer<vtkUnsignedCharArray>::New();
-  colours->SetNumberOfComponents(3);
-  auto triangles = vtkSmartPointer<vtkCellArray>::New();
-  if (ground) {
-    for (std::size_t i = 0; i < ground->vertices.size(); ++i) {
-      const Eigen::Vector3f& v = ground->vertices[i];
-      points->InsertNextPoint(v.x(), v.y(), v.z());
-      colours->InsertNextTypedTuple(labelColour(ground->vertex_labels[i]).data());
-    }
-    for (const auto& t : ground->triangles) {
-      const vtkIdType ids[3] = {vtkIdType(t[0]), vtkIdType(t[1]), vtkIdType(t[2])};
-      triangles->InsertNextCell(3, ids);
-    }
-  }
-  for (const SceneBox& box : boxes) {
-    const auto rgb = labelColour(box.label);
-    vtkIdType corner_ids[8];
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3f sign((corner & 1) ? 1.F : -1.F, (corner & 2) ? 1.F : -1.F,
-                                 (corner & 4) ? 1.F : -1.F);
-      const Eigen::Vector3f p = box.center + box.axes * sign.cwiseProduct(box.half_size);
-      corner_ids[corner] = points->InsertNextPoint(p.x(), p.y(), p.z());
-      colours->InsertNextTypedTuple(rgb.data());
-    }
-    static constexpr int kFaces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
-                                          {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
-                                          {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    for (const auto& f : kFaces) {
-      const vtkIdType ids[3] = {corner_ids[f[0]], corner_ids[f[1]], corner_ids[f[2]]};
-      triangles->InsertNextCell(3, ids);
-    }
-  }
-  auto mesh = vtkSmartPointer<vtkPolyData>::New();
-  mesh->SetPoints(points);
-  mesh->SetPolys(triangles);
-  mesh->GetPointData()->SetScalars(colours);
-  return mesh;
-}
-
-vtkSmartPointer<vtkActor> actorFor(vtkPolyData* data) {
-  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New();
-  mapper->SetInputData(data);
-  mapper->SetScalarModeToUsePointData();
-  mapper->SetColorModeToDirectScalars();
-  auto actor = vtkSmartPointer<vtkActor>::New();
-  actor->SetMapper(mapper);
-  return actor;
-}
+// The operator's camera: this far behind the robot and this high, looking at a point this far
+// ahead of it on the ground [m]; never higher than this far under the top of the robust extent
+// (under most ceilings).
+constexpr double kEyeBehind = 1.5, kEyeHeight = 2.6, kLookAhead = 6.0, kUnderCeiling = 0.3;
+constexpr double kOperatorViewAngle = 60.0;
+// Without a heading from the engine the camera looks at the scene's middle when it is at least
+// this far from the robot [m].
+constexpr double kMinLookDistance = 1.0;
+// Orthographic views leave this margin around the robust extent.
+constexpr double kFrameMargin = 1.15;
+// Far cameras for orthographic views stand this far off the scene [m].
+constexpr double kOrthoDistance = 100.0;
+const QColor kRobotColour(40, 120, 255);
+// The robot's box is see-through: the operator looks past it.
+constexpr double kRobotOpacity = 0.15;
+// Picking tolerance, as a fraction of the window's diagonal (points are small targets).
+constexpr double kPickTolerance = 0.005;
 
 }  // namespace
 
@@ -147,16 +57,29 @@ struct SceneView::Private {
   std::shared_ptr<const Scan> scan;
   std::shared_ptr<const PipelineResult> result;
   CloudColour cloud_colour = CloudColour::kRemission;
-  std::map<Layer, vtkSmartPointer<vtkActor>> layers;
-  std::map<Layer, bool> visible = {{Layer::kCloud, true},
-                                   {Layer::kGround, true},
-                                   {Layer::kWalls, true},
-                                   {Layer::kObstacles, true}};
-  vtkSmartPointer<vtkActor> robot;
-  // The map frame's up and forward in the scanner frame, for a camera that stands upright.
-  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d forward = Eigen::Vector3d::UnitX();
+  PaletteKind palette = PaletteKind::kColourBlindSafe;
+  CameraView camera_view = CameraView::kBehind;
+  std::map<Layer, Props> layers;
+  std::map<Layer, bool> visible = {{Layer::kCloud, true},   {Layer::kGround, true},
+                                   {Layer::kWalls, true},   {Layer::kObstacles, true},
+                                   {Layer::kCeiling, true}, {Layer::kGrid, true}};
+  Props overlays;  // robot, path, selection, measurement, legend, notices
+  scene::Bounds robust{-5, 5, -5, 5, -1, 3};
+  PathPose robot_pose;
+  bool pose_from_engine = false;  // set once setRobotPose is called
+  std::vector<PathPose> path;
+  std::vector<std::uint8_t> reachable;
+  QString stale_note;
   bool has_frame = false;
+  bool measuring = false;
+  std::vector<Eigen::Vector3d> measure_points;
+  std::optional<PathPose> selected;
+  bool selected_fits = true;
+
+  Eigen::Isometry3d mapFromScanner() const {
+    return has_frame ? result->analysis.map_from_scanner : Eigen::Isometry3d::Identity();
+  }
+  RobotParams robot() const { return result ? result->robot : RobotParams{}; }
 };
 
 void SceneView::prepareApplication() {
@@ -185,10 +108,11 @@ SceneView::SceneView(QWidget* parent) : QWidget(parent), d_(std::make_unique<Pri
   d_->renderer = vtkSmartPointer<vtkRenderer>::New();
   d_->renderer->SetBackground(0.12, 0.12, 0.14);
   d_->window->AddRenderer(d_->renderer);
-  // Orbit with the left button, pan with the middle, zoom with the wheel.
-  vtkNew<vtkInteractorStyleTrackballCamera> style;
+  vtkNew<scene::ConsoleInteractorStyle> style;
+  style->on_click = [this](int x, int y) { handleClick(x, y); };
   d_->window->GetInteractor()->SetInteractorStyle(style);
   layout->addWidget(d_->widget);
+  clearScene();
 }
 
 SceneView::~SceneView() = default;
@@ -197,84 +121,145 @@ bool SceneView::hasRenderer() const {
   return d_->widget != nullptr;
 }
 
-void SceneView::setScene(std::shared_ptr<const Scan> scan,
-                         std::shared_ptr<const PipelineResult> result) {
+void SceneView::render() {
+  if (hasRenderer()) d_->window->Render();
+}
+
+void SceneView::clearScene() {
+  d_->scan = nullptr;
+  d_->result = nullptr;
+  d_->has_frame = false;
+  d_->path.clear();
+  d_->reachable.clear();
+  d_->selected.reset();
+  d_->measure_points.clear();
+  d_->stale_note.clear();
   if (!hasRenderer()) return;
-  const bool same_scan = scan && scan == d_->scan;
-  d_->scan = std::move(scan);
-  d_->result = std::move(result);
   d_->renderer->RemoveAllViewProps();
   d_->layers.clear();
-  d_->robot = nullptr;
-  const PipelineResult* r = d_->result.get();
-  d_->has_frame = r && r->trusted();
-  if (r) {
-    d_->up = r->analysis.map_from_scanner.linear().row(2).transpose();
-    d_->forward = r->analysis.map_from_scanner.linear().row(0).transpose();
+  d_->overlays.clear();
+  auto hint = scene::noticeProp(tr("No scan yet.\nOpen one (Ctrl+O), drop one here,\nor acquire "
+                                   "one in the Scanner panel."),
+                                QColor(200, 200, 210));
+  d_->overlays.push_back(hint);
+  d_->renderer->AddViewProp(hint);
+  render();
+}
+
+void SceneView::setScene(std::shared_ptr<const Scan> scan,
+                         std::shared_ptr<const PipelineResult> result) {
+  if (!scan) {
+    clearScene();
+    return;
   }
+  const bool same_scan = scan == d_->scan && d_->result;
+  if (!same_scan) {
+    d_->path.clear();
+    d_->reachable.clear();
+    d_->selected.reset();
+    d_->measure_points.clear();
+  }
+  d_->scan = std::move(scan);
+  d_->result = std::move(result);
+  d_->has_frame = d_->result && d_->result->trusted();
+  d_->stale_note.clear();
+  // A new robot size or new parameters keep the operator's camera; a new scan starts from the
+  // operator's view.
+  rebuild(same_scan);
+}
+
+void SceneView::rebuild(bool keep_camera) {
+  if (!hasRenderer()) return;
+  d_->renderer->RemoveAllViewProps();
+  d_->layers.clear();
   if (d_->scan) {
-    auto cloud = actorFor(pointCloud(*d_->scan, d_->has_frame ? &r->point_classes : nullptr,
-                                     d_->cloud_colour, d_->up, r ? &r->point_classes : nullptr));
-    cloud->GetProperty()->SetPointSize(2);
-    d_->layers[Layer::kCloud] = cloud;
+    const PipelineResult* r = d_->result.get();
+    auto cloud = scene::cloudProps(*d_->scan, d_->mapFromScanner(), r ? &r->point_classes : nullptr,
+                                   d_->cloud_colour);
+    d_->robust = cloud.robust;
+    d_->layers[Layer::kCloud] = {cloud.cloud};
+    if (cloud.ceiling) d_->layers[Layer::kCeiling] = {cloud.ceiling};
+    if (d_->has_frame) {
+      d_->layers[Layer::kGround] = {scene::groundActor(*r, d_->palette, d_->reachable)};
+      d_->layers[Layer::kObstacles] = {
+          scene::boxesActor(r->scene.obstacles, d_->mapFromScanner(), d_->palette)};
+      // Walls are see-through so the ground behind them stays visible.
+      auto walls = scene::boxesActor(r->scene.walls, d_->mapFromScanner(), d_->palette);
+      walls->GetProperty()->SetOpacity(0.45);
+      d_->layers[Layer::kWalls] = {walls};
+    }
+    d_->layers[Layer::kGrid] = scene::gridProps(d_->robust);
+    for (auto& prop : scene::axesProps())
+      d_->layers[Layer::kGrid].push_back(prop);
   }
-  if (r) {
-    d_->layers[Layer::kGround] = actorFor(coloredMesh(&r->scene, {}));
-    d_->layers[Layer::kObstacles] = actorFor(coloredMesh(nullptr, r->scene.obstacles));
-    // Walls are see-through so the ground behind them stays visible.
-    auto walls = actorFor(coloredMesh(nullptr, r->scene.walls));
-    walls->GetProperty()->SetOpacity(0.35);
-    d_->layers[Layer::kWalls] = walls;
-  }
-  for (const auto& [layer, actor] : d_->layers) {
-    actor->SetVisibility(d_->visible[layer]);
-    d_->renderer->AddActor(actor);
-  }
-  vtkNew<vtkSphereSource> scanner;
-  scanner->SetRadius(0.12);
-  scanner->Update();
-  auto marker = actorFor(scanner->GetOutput());
-  marker->GetProperty()->SetColor(0.2, 0.6, 1.0);
-  marker->GetMapper()->ScalarVisibilityOff();
-  d_->renderer->AddActor(marker);
-  // A new robot size keeps the operator's camera; a new scan starts from the default view.
-  if (same_scan) {
-    d_->window->Render();
+  for (const auto& [layer, props] : d_->layers)
+    for (const auto& prop : props)
+      d_->renderer->AddViewProp(prop);
+  applyLayerVisibility();
+  d_->overlays.clear();
+  rebuildOverlays();
+  if (keep_camera) {
+    d_->renderer->ResetCameraClippingRange();
+    render();
   } else {
-    resetCamera();
+    setCameraView(CameraView::kBehind);
+  }
+}
+
+void SceneView::rebuildOverlays() {
+  if (!hasRenderer()) return;
+  for (const auto& prop : d_->overlays)
+    d_->renderer->RemoveViewProp(prop);
+  d_->overlays.clear();
+  auto add = [this](const Props& props) {
+    for (const auto& prop : props) {
+      d_->overlays.push_back(prop);
+      d_->renderer->AddViewProp(prop);
+    }
+  };
+  if (d_->has_frame) {
+    add(scene::robotProps(d_->robot_pose, d_->robot(), kRobotColour, kRobotOpacity));
+    add(scene::pathProps(d_->path, d_->robot()));
+    if (d_->selected)
+      add(scene::robotProps(*d_->selected, d_->robot(),
+                            d_->selected_fits ? QColor(255, 255, 255) : QColor(140, 20, 20), 0.35));
+  }
+  if (d_->measure_points.size() == 2)
+    add(scene::measurementProps(d_->measure_points[0], d_->measure_points[1]));
+  if (d_->scan) add(scene::legendProps(d_->palette));
+  if (!d_->stale_note.isEmpty()) add({scene::noticeProp(d_->stale_note, QColor(255, 210, 80))});
+  if (d_->scan && d_->result && !d_->has_frame)
+    add({scene::noticeProp(tr("No ground found: nothing is shown as traversable."),
+                           QColor(255, 120, 120))});
+}
+
+void SceneView::applyLayerVisibility() {
+  for (const auto& [layer, props] : d_->layers) {
+    bool on = d_->visible[layer];
+    // The ceiling would hide the inside from above.
+    if (layer == Layer::kCeiling && d_->camera_view == CameraView::kTop) on = false;
+    for (const auto& prop : props)
+      prop->SetVisibility(on);
   }
 }
 
 void SceneView::showArrivingScan(std::shared_ptr<const Scan> so_far) {
-  if (!hasRenderer() || !so_far) return;
-  const bool first = d_->layers.find(Layer::kCloud) == d_->layers.end() || d_->result;
+  if (!so_far) return;
+  const bool first = d_->result != nullptr || !d_->scan;
+  d_->scan = std::move(so_far);
   if (first) {
-    d_->renderer->RemoveAllViewProps();
-    d_->layers.clear();
     d_->result = nullptr;
     d_->has_frame = false;
-  } else {
-    d_->renderer->RemoveActor(d_->layers[Layer::kCloud]);
+    d_->stale_note.clear();
   }
-  d_->scan = so_far;
-  auto cloud = actorFor(pointCloud(*so_far, nullptr, d_->cloud_colour, d_->up, nullptr));
-  cloud->GetProperty()->SetPointSize(2);
-  cloud->SetVisibility(d_->visible[Layer::kCloud]);
-  d_->layers[Layer::kCloud] = cloud;
-  d_->renderer->AddActor(cloud);
-  if (first) {
-    resetCamera();
-  } else {
-    d_->window->Render();
-  }
+  rebuild(!first);
 }
 
 void SceneView::setLayerVisible(Layer layer, bool visible) {
   d_->visible[layer] = visible;
   if (!hasRenderer()) return;
-  if (const auto it = d_->layers.find(layer); it != d_->layers.end())
-    it->second->SetVisibility(visible);
-  d_->window->Render();
+  applyLayerVisibility();
+  render();
 }
 
 bool SceneView::layerVisible(Layer layer) const {
@@ -283,85 +268,169 @@ bool SceneView::layerVisible(Layer layer) const {
 
 void SceneView::setCloudColour(CloudColour colour) {
   d_->cloud_colour = colour;
-  if (hasRenderer() && d_->scan) {
-    const auto scan = d_->scan;
-    d_->scan = nullptr;  // rebuild, keeping the camera below
-    vtkNew<vtkCamera> saved;
-    saved->DeepCopy(d_->renderer->GetActiveCamera());
-    setScene(scan, d_->result);
-    d_->renderer->GetActiveCamera()->DeepCopy(saved);
-    d_->window->Render();
-  }
+  rebuild(true);
+}
+
+void SceneView::setPaletteKind(PaletteKind palette) {
+  d_->palette = palette;
+  rebuild(true);
+}
+
+void SceneView::setRobotPose(double x, double y, double yaw) {
+  d_->robot_pose = {x, y, yaw};
+  d_->pose_from_engine = true;
+  rebuildOverlays();
+  render();
+}
+
+void SceneView::setPath(std::vector<PathPose> path) {
+  d_->path = std::move(path);
+  rebuildOverlays();
+  render();
+}
+
+void SceneView::setReachable(std::vector<std::uint8_t> reachable) {
+  d_->reachable = std::move(reachable);
+  rebuild(true);
 }
 
 void SceneView::showRobotAt(double map_x, double map_y, double yaw_deg) {
-  if (!hasRenderer() || !d_->result || !d_->has_frame) return;
-  const PipelineResult& r = *d_->result;
-  const Eigen::Isometry3d scanner_from_map = r.analysis.map_from_scanner.inverse();
-  const double yaw = std::isnan(yaw_deg) ? 0.0 : yaw_deg * M_PI / 180.0;
-  SceneBox box;
-  box.label = std::isnan(yaw_deg) ? CellLabel::kImpassable : CellLabel::kTraversable;
-  const Eigen::Vector3d centre(map_x, map_y, r.robot.height / 2);
-  box.center = (scanner_from_map * centre).cast<float>();
-  const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  box.axes = (scanner_from_map.linear() * turn).cast<float>();
-  box.half_size = Eigen::Vector3f(float(r.robot.length / 2), float(r.robot.width / 2),
-                                  float(r.robot.height / 2));
-  if (d_->robot) d_->renderer->RemoveActor(d_->robot);
-  d_->robot = actorFor(coloredMesh(nullptr, {box}));
-  d_->robot->GetProperty()->SetOpacity(0.6);
-  d_->renderer->AddActor(d_->robot);
-  d_->window->Render();
+  d_->selected = PathPose{map_x, map_y, std::isnan(yaw_deg) ? 0.0 : yaw_deg * M_PI / 180.0};
+  d_->selected_fits = !std::isnan(yaw_deg);
+  rebuildOverlays();
+  render();
+}
+
+void SceneView::setStale(const QString& note) {
+  d_->stale_note = note;
+  rebuildOverlays();
+  render();
+}
+
+void SceneView::setMeasuring(bool on) {
+  d_->measuring = on;
+  d_->measure_points.clear();
+  rebuildOverlays();
+  render();
+}
+
+bool SceneView::pickAt(QPoint widget_position) {
+  if (!hasRenderer()) return false;
+  const double ratio = d_->widget->devicePixelRatioF();
+  const int x = int(widget_position.x() * ratio);
+  const int y = int((d_->widget->height() - 1 - widget_position.y()) * ratio);
+  return handleClick(x, y);
+}
+
+bool SceneView::handleClick(int x, int y) {
+  vtkNew<vtkCellPicker> picker;
+  picker->SetTolerance(kPickTolerance);
+  if (!picker->Pick(x, y, 0, d_->renderer)) return false;
+  double position[3];
+  picker->GetPickPosition(position);
+  const Eigen::Vector3d point(position[0], position[1], position[2]);
+  if (d_->measuring) {
+    if (d_->measure_points.size() == 2) d_->measure_points.clear();
+    d_->measure_points.push_back(point);
+    if (d_->measure_points.size() == 2)
+      emit measured((d_->measure_points[1] - d_->measure_points[0]).norm());
+    rebuildOverlays();
+    render();
+  }
+  QString what = tr("no map here");
+  if (d_->result && d_->has_frame) {
+    const TraversabilityMap& map = d_->result->map;
+    const Eigen::Vector2i cell = map.grid.cellOf(point.x(), point.y());
+    if (map.grid.inside(cell.x(), cell.y())) {
+      const auto name = labelName(map.label(cell.x(), cell.y()));
+      what = tr("%1 m above the ground, over a %2 cell")
+                 .arg(point.z(), 0, 'f', 2)
+                 .arg(QString::fromUtf8(name.data(), int(name.size())));
+    }
+  }
+  emit pointPicked(point.x(), point.y(), point.z(), what);
+  return true;
+}
+
+std::shared_ptr<const Scan> SceneView::shownScan() const {
+  return d_->scan;
+}
+
+std::array<double, 6> SceneView::robustBounds() const {
+  return d_->robust;
+}
+
+SceneView::CameraView SceneView::cameraView() const {
+  return d_->camera_view;
+}
+
+bool SceneView::isOrthographic() const {
+  return hasRenderer() && d_->renderer->GetActiveCamera()->GetParallelProjection();
 }
 
 void SceneView::setCameraView(CameraView view) {
+  d_->camera_view = view;
   if (!hasRenderer()) return;
-  const Eigen::Vector3d up = d_->has_frame ? d_->up : Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d forward = d_->has_frame ? d_->forward : Eigen::Vector3d::UnitX();
-  const Eigen::Vector3d side = up.cross(forward);
-  Eigen::Vector3d eye = 2.5 * up - 6.0 * forward, view_up = up;
+  applyLayerVisibility();
+  const scene::Bounds& b = d_->robust;
+  const Eigen::Vector3d centre((b[0] + b[1]) / 2, (b[2] + b[3]) / 2, (b[4] + b[5]) / 2);
+  vtkCamera* camera = d_->renderer->GetActiveCamera();
+  const double aspect = std::max(1.0, double(width())) / std::max(1.0, double(height()));
   switch (view) {
-    case CameraView::kBehind:
-      eye = 2.5 * up - 6.0 * forward;
+    case CameraView::kBehind: {
+      // Behind and above the robot, looking where it (and the scanner) looks.
+      camera->SetParallelProjection(false);
+      // Until the engine gives the robot a heading, look from the robot towards the middle of
+      // what the scanner saw (in a corridor: along it, not into its side wall).
+      const PathPose& pose = d_->robot_pose;
+      const Eigen::Vector3d foot(pose.x, pose.y, 0.0);
+      Eigen::Vector3d heading(std::cos(pose.yaw), std::sin(pose.yaw), 0.0);
+      const Eigen::Vector3d to_scene(centre.x() - pose.x, centre.y() - pose.y, 0.0);
+      if (!d_->pose_from_engine && to_scene.norm() > kMinLookDistance)
+        heading = to_scene.normalized();
+      const double height = std::max(0.8, std::min(kEyeHeight, b[5] - kUnderCeiling));
+      const Eigen::Vector3d eye = foot - kEyeBehind * heading + Eigen::Vector3d(0, 0, height);
+      const Eigen::Vector3d focus = foot + kLookAhead * heading;
+      camera->SetPosition(eye.x(), eye.y(), eye.z());
+      camera->SetFocalPoint(focus.x(), focus.y(), focus.z());
+      camera->SetViewUp(0, 0, 1);
+      camera->SetViewAngle(kOperatorViewAngle);
       break;
+    }
     case CameraView::kTop:
-      eye = 10.0 * up;
-      view_up = forward;
+      // Map +x right, +y up: the same as the 2D map.
+      camera->SetParallelProjection(true);
+      camera->SetFocalPoint(centre.x(), centre.y(), 0.0);
+      camera->SetPosition(centre.x(), centre.y(), kOrthoDistance);
+      camera->SetViewUp(0, 1, 0);
+      camera->SetParallelScale(kFrameMargin *
+                               std::max((b[3] - b[2]) / 2, (b[1] - b[0]) / 2 / aspect));
       break;
     case CameraView::kFront:
-      eye = -10.0 * forward + 0.5 * up;
+    case CameraView::kSide: {
+      // Elevations: from behind the scanner along +x, or from the robot's left along -y.
+      camera->SetParallelProjection(true);
+      const bool front = view == CameraView::kFront;
+      camera->SetFocalPoint(centre.x(), centre.y(), centre.z());
+      camera->SetPosition(front ? centre.x() - kOrthoDistance : centre.x(),
+                          front ? centre.y() : centre.y() + kOrthoDistance, centre.z());
+      camera->SetViewUp(0, 0, 1);
+      const double across = front ? b[3] - b[2] : b[1] - b[0];
+      camera->SetParallelScale(kFrameMargin * std::max((b[5] - b[4]) / 2, across / 2 / aspect));
       break;
-    case CameraView::kSide:
-      eye = 10.0 * side + 0.5 * up;
-      break;
+    }
   }
-  vtkCamera* camera = d_->renderer->GetActiveCamera();
-  camera->SetFocalPoint(0, 0, 0);
-  camera->SetPosition(eye.x(), eye.y(), eye.z());
-  camera->SetViewUp(view_up.x(), view_up.y(), view_up.z());
-  d_->renderer->ResetCamera();
-  d_->window->Render();
+  d_->renderer->ResetCameraClippingRange();
+  render();
 }
 
 void SceneView::resetCamera() {
-  if (!hasRenderer()) return;
-  vtkCamera* camera = d_->renderer->GetActiveCamera();
-  camera->SetFocalPoint(0, 0, 0);
-  if (d_->has_frame) {
-    // From behind the scanner, a little above it, upright on the ground: under most ceilings.
-    const Eigen::Vector3d eye = 2.5 * d_->up - 6.0 * d_->forward;
-    camera->SetPosition(eye.x(), eye.y(), eye.z());
-    camera->SetViewUp(d_->up.x(), d_->up.y(), d_->up.z());
-  } else {
-    camera->SetPosition(0, 0, 10);
-    camera->SetViewUp(0, 1, 0);
-  }
-  d_->renderer->ResetCamera();
-  d_->window->Render();
+  setCameraView(CameraView::kBehind);
 }
 
 QImage SceneView::renderedImage() {
   if (!hasRenderer()) return {};
+  d_->renderer->ResetCameraClippingRange();
   d_->window->Render();
   return d_->widget->grabFramebuffer();
 }

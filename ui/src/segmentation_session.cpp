@@ -1,5 +1,6 @@
 #include "clearway/ui/segmentation_session.h"
 
+#include <QFileInfo>
 #include <QFutureWatcher>
 #include <QPointer>
 #include <QTimer>
@@ -40,7 +41,26 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
           return !control->cancel;
         }));
     outcome.result.scan = std::move(scan);
+    outcome.result.scan_time = QFileInfo(path).lastModified();
     outcome.result.result = std::move(result);
+  } catch (const OperationCancelled&) {
+    outcome.cancelled = true;
+  } catch (const std::exception& error) {
+    outcome.error = QString::fromUtf8(error.what());
+  }
+  return outcome;
+}
+
+JobOutcome resegmentScan(SessionResult previous, const SegmentationParams& params,
+                         std::shared_ptr<JobControl> control) {
+  JobOutcome outcome;
+  outcome.result = previous;
+  try {
+    outcome.result.result = std::make_shared<const PipelineResult>(
+        runPipeline(*previous.scan, params, 2, [control](double f) {
+          control->percent = int(100 * f);
+          return !control->cancel;
+        }));
   } catch (const OperationCancelled&) {
     outcome.cancelled = true;
   } catch (const std::exception& error) {
@@ -137,6 +157,22 @@ void SegmentationSession::openScan(const QString& path) {
   emit progress(0, tr("Loading"));
   d_->progress_timer.start();
   d_->load_watcher.setFuture(QtConcurrent::run(loadAndSegment, path, params_, d_->control));
+}
+
+void SegmentationSession::resegment() {
+  if (!d_->current.scan) return;
+  const SessionResult previous = d_->current;
+  cancel();
+  d_->control = std::make_shared<JobControl>();
+  d_->current = {};
+  emit busyChanged(true);
+  emit progress(0, tr("Segmenting"));
+  d_->progress_timer.start();
+  d_->load_watcher.setFuture(QtConcurrent::run(resegmentScan, previous, params_, d_->control));
+}
+
+bool SegmentationSession::hasResult() const {
+  return d_->current.result != nullptr;
 }
 
 void SegmentationSession::setRobot(const RobotParams& robot) {

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <limits>
 #include <unordered_set>
+#include <vector>
 
 namespace clearway {
 namespace {
@@ -10,6 +11,16 @@ namespace {
 // Obstacle cubes are this big, and there are at most this many of them.
 constexpr float kCubeSize = 0.1F;
 constexpr std::size_t kMaxCubes = 50'000;
+// Wall boxes: 6 cm thick; a plane whose normal is this close to vertical is no wall in the map
+// frame; wall pieces lower than this (a ceiling's crossing), or ceilings lower than this, are not
+// drawn / not used for clipping [m].
+constexpr float kWallHalfThickness = 0.03F;
+constexpr double kMinHorizontalNormal = 0.3;
+constexpr double kMinWallHeight = 0.25;
+// Walls stop this far below the ceiling so the ceiling's points stay visible above them [m].
+constexpr double kCeilingClearance = 0.02;
+// A wall whose supported cells reach this close to the ground is drawn down to it [m].
+constexpr double kSnapToGround = 0.3;
 
 CellLabel labelAt(const TraversabilityMap& map, double x, double y) {
   const Eigen::Vector2i cell = map.grid.cellOf(x, y);
@@ -80,31 +91,101 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
     scene.triangles.push_back({vertex(triangle[0]), vertex(triangle[1]), vertex(triangle[2])});
   }
 
-  // Walls: the supported extent of every wall plane, as a thin red cuboid.
+  // Walls: upright boxes in the map frame, aligned with the wall (its normal projected on the
+  // ground), one per run of the wall's supported cells along it (so a door stays open), standing
+  // on the ground and clipped below the lowest ceiling. The support image's own in-plane axes are
+  // arbitrary, so they only serve to find the supported cells.
+  const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
+  auto supportedCells = [&](std::size_t k, auto&& visit) {
+    const Plane& plane = analysis.planes.planes[k];
+    const SupportImage& image = analysis.planes.supports[k];
+    for (int r = 0; r < image.height; ++r)
+      for (int c = 0; c < image.width; ++c)
+        if (image.kept[std::size_t(r) * std::size_t(image.width) + std::size_t(c)])
+          visit(map_from_scanner *
+                (plane.normal * plane.offset + image.u_axis * (image.u0 + (c + 0.5) * image.cell) +
+                 image.v_axis * (image.v0 + (r + 0.5) * image.cell)));
+  };
+  double ceiling_height = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
+    if (analysis.planes.planes[k].kind != PlaneKind::kCeiling) continue;
+    double sum = 0.0;
+    std::size_t count = 0;
+    supportedCells(k, [&](const Eigen::Vector3d& p) {
+      sum += p.z();
+      ++count;
+    });
+    if (count > 0 && sum / double(count) > kMinWallHeight)
+      ceiling_height = std::min(ceiling_height, sum / double(count));
+  }
   for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
     const Plane& plane = analysis.planes.planes[k];
     if (plane.kind != PlaneKind::kWall) continue;
-    const SupportImage& image = analysis.planes.supports[k];
-    int c0 = image.width, c1 = -1, r0 = image.height, r1 = -1;
-    for (int r = 0; r < image.height; ++r)
-      for (int c = 0; c < image.width; ++c)
-        if (image.kept[std::size_t(r) * std::size_t(image.width) + std::size_t(c)]) {
-          c0 = std::min(c0, c);
-          c1 = std::max(c1, c);
-          r0 = std::min(r0, r);
-          r1 = std::max(r1, r);
-        }
-    if (c1 < 0) continue;
-    const double u = image.u0 + (c0 + c1 + 1) * image.cell / 2,
-                 v = image.v0 + (r0 + r1 + 1) * image.cell / 2;
-    SceneBox box;
-    box.center = (plane.normal * plane.offset + image.u_axis * u + image.v_axis * v).cast<float>();
-    box.axes.col(0) = image.u_axis.cast<float>();
-    box.axes.col(1) = image.v_axis.cast<float>();
-    box.axes.col(2) = plane.normal.cast<float>();
-    box.half_size = Eigen::Vector3f(float((c1 - c0 + 1) * image.cell / 2),
-                                    float((r1 - r0 + 1) * image.cell / 2), 0.03F);
-    scene.walls.push_back(box);
+    const Eigen::Vector3d normal = map_from_scanner.linear() * plane.normal;
+    const Eigen::Vector3d across = Eigen::Vector3d(normal.x(), normal.y(), 0.0);
+    if (across.norm() < kMinHorizontalNormal) continue;  // not a wall in the map frame
+    const Eigen::Vector3d out = across.normalized();
+    const Eigen::Vector3d along(-out.y(), out.x(), 0.0);
+    // The wall's supported cells in bins along it: each bin's lowest and highest cell. Runs of
+    // bins become boxes; an empty bin (a door, a gap) or a change between standing on the ground
+    // and hanging (a lintel over a door) starts a new box.
+    const double cell = analysis.planes.supports[k].cell;
+    double depth = 0.0, a_min = std::numeric_limits<double>::infinity();
+    std::vector<std::pair<double, Eigen::Vector3d>> cells;  // position along, map position
+    supportedCells(k, [&](const Eigen::Vector3d& p) {
+      cells.emplace_back(p.dot(along), p);
+      a_min = std::min(a_min, p.dot(along));
+      depth += p.dot(out);
+    });
+    if (cells.empty()) continue;
+    depth /= double(cells.size());
+    struct Bin {
+      double low = std::numeric_limits<double>::infinity(), high = -low;
+    };
+    std::vector<Bin> bins;
+    for (const auto& [a, p] : cells) {
+      const auto index = std::size_t((a - a_min) / cell);
+      if (index >= bins.size()) bins.resize(index + 1);
+      // Cells at the foot are where the floor crosses the wall's plane, in a doorway too: they
+      // say nothing about whether the wall is there.
+      if (p.z() - cell / 2 < kSnapToGround) continue;
+      bins[index].low = std::min(bins[index].low, p.z() - cell / 2);
+      bins[index].high = std::max(bins[index].high, p.z() + cell / 2);
+    }
+    // Standing: the wall's cells begin right above the foot band.
+    auto standing = [cell](const Bin& bin) { return bin.low < kSnapToGround + 1.5 * cell; };
+    Eigen::Matrix3d axes_in_map;
+    axes_in_map << along, out, Eigen::Vector3d::UnitZ();
+    for (std::size_t first = 0; first < bins.size();) {
+      if (bins[first].high < bins[first].low) {  // empty
+        ++first;
+        continue;
+      }
+      std::size_t last = first;
+      double bottom = bins[first].low, top = bins[first].high;
+      while (last + 1 < bins.size() && bins[last + 1].high >= bins[last + 1].low &&
+             standing(bins[last + 1]) == standing(bins[first])) {
+        ++last;
+        bottom = std::min(bottom, bins[last].low);
+        top = std::max(top, bins[last].high);
+      }
+      // A wall seen down to near the ground stands on it (the lowest returns are often
+      // shadowed); one that starts high (a lintel, a shelf's back) keeps its own bottom.
+      if (standing(bins[first])) bottom = 0.0;
+      top = std::min(top, ceiling_height - kCeilingClearance);
+      const double a0 = a_min + double(first) * cell - cell / 2,
+                   a1 = a_min + double(last + 1) * cell - cell / 2;
+      first = last + 1;
+      if (top - bottom <= kMinWallHeight) continue;
+      const Eigen::Vector3d centre_in_map =
+          along * (a0 + a1) / 2 + out * depth + Eigen::Vector3d(0, 0, (top + bottom) / 2);
+      SceneBox box;
+      box.center = (scanner_from_map * centre_in_map).cast<float>();
+      box.axes = (scanner_from_map.linear() * axes_in_map).cast<float>();
+      box.half_size =
+          Eigen::Vector3f(float((a1 - a0) / 2), kWallHalfThickness, float((top - bottom) / 2));
+      scene.walls.push_back(box);
+    }
   }
 
   // Obstacles: one cube per occupied voxel of points between the ground and the robot's top.

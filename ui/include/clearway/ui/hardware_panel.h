@@ -33,6 +33,8 @@ class HardwarePanel : public QWidget {
   // A scan was acquired and saved; `complete` is false for the part kept after a cancel or loss.
   void scanSaved(const QString& path, bool complete);
   void statusChanged(const QString& status);
+  // An acquisition started: what the views show is from now on the previous scan.
+  void scanStarted();
   // The lines of the scan in progress, for the 3D view.
   void linesArrived(std::shared_ptr<const clearway::Scan> so_far);
 

@@ -1,7 +1,9 @@
 #pragma once
 
-// Robot size: a slider and a spin box per dimension (ranges from the parameter table) and the
-// presets of the LMF's configurations.
+// Robot size: a slider and a spin box per dimension and the presets of the LMF's configurations.
+// Each dimension's range is what the engine's validation (SegmentationParams::validate) accepts
+// given the other dimensions and the map parameters, so the panel cannot ask for a robot the engine
+// refuses. The preset box names the preset only while the robot is that preset, else "custom".
 
 #include <QWidget>
 #include <memory>
@@ -21,6 +23,11 @@ class RobotPanel : public QWidget {
   double maxSlopeDeg() const;
   void setMaxSlopeDeg(double degrees);
   void setRobot(const RobotParams& robot);  // emits robotChanged once if anything changed
+  // The parameters the robot is checked against (map resolution etc.); narrows the ranges.
+  void setEngineParams(const SegmentationParams& params);
+  // The smallest and largest value the engine accepts for a dimension ("robot.width").
+  std::pair<double, double> limits(const std::string& key) const;
+  QString presetName() const;
 
  signals:
   void robotChanged(const clearway::RobotParams& robot);

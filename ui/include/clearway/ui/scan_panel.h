@@ -1,7 +1,7 @@
 #pragma once
 
-// Scans to review: the open scan's facts, Open, Previous/Next through the scans of its folder,
-// and the recent scans (kept in QSettings).
+// Scans to review: the open scan in words (the raw facts behind Details), Open, Previous/Next
+// through the scans of its folder, and the recent scans (kept in QSettings).
 
 #include <QStringList>
 #include <QWidget>
@@ -17,7 +17,11 @@ class ScanPanel : public QWidget {
   ~ScanPanel() override;
 
   // The scan now shown: remembered in the recent list; Previous/Next follow its folder.
-  void setCurrent(const QString& path, const QString& summary);
+  // `summary` is for people (a few lines); `details` (the key/value facts, stage timings) sits
+  // behind the Details toggle.
+  void setCurrent(const QString& path, const QString& summary, const QString& details = {});
+  // No scan is shown (a failed or cancelled open).
+  void clearCurrent();
   QStringList recentScans() const;
   // The scans Clearway can read in a folder, sorted by name.
   static QStringList scansInFolder(const QString& folder);

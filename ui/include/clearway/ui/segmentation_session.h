@@ -4,6 +4,7 @@
 // analysis, and re-runs only the traversability check when the robot changes — debounced, newest
 // request wins, never blocking the GUI thread (Qt5: QtConcurrent + QFutureWatcher).
 
+#include <QDateTime>
 #include <QObject>
 #include <QString>
 #include <memory>
@@ -19,6 +20,8 @@ struct SessionResult {
   std::shared_ptr<const Scan> scan;
   std::shared_ptr<const PipelineResult> result;
   QString scan_path;
+  // When the scan was taken: the file's modification time (acquisitions are saved as they end).
+  QDateTime scan_time;
 };
 
 class SegmentationSession : public QObject {
@@ -30,6 +33,10 @@ class SegmentationSession : public QObject {
 
   // Loads and segments a scan file; cancels any job still running.
   void openScan(const QString& path);
+  // Segments the scan already loaded again with the current parameters (stages 1-6, no reload).
+  void resegment();
+  // True while a scan and its result are held (a failed or cancelled open drops them).
+  bool hasResult() const;
   // Re-runs stages 5-6 for a new robot after a short pause (slider drags coalesce).
   void setRobot(const RobotParams& robot);
   void setParams(const SegmentationParams& params);

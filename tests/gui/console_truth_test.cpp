@@ -1,0 +1,308 @@
+// Issue #13 under QT_QPA_PLATFORM=offscreen: what the console shows is the truth (defects 1-3), the
+// window fits, remembers and has a View menu and shortcuts (7), and it speaks to operators (8).
+// Settings are isolated (QStandardPaths test mode).
+
+#include <QAction>
+#include <QDockWidget>
+#include <QDoubleSpinBox>
+#include <QGroupBox>
+#include <QLabel>
+#include <QMenu>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSettings>
+#include <QSignalSpy>
+#include <QSlider>
+#include <QStandardPaths>
+#include <QStatusBar>
+#include <QTemporaryDir>
+#include <QToolButton>
+#include <QtTest>
+
+#include "clearway/ui/hardware_panel.h"
+#include "clearway/ui/main_window.h"
+#include "clearway/ui/map_view.h"
+#include "clearway/ui/parameters_dialog.h"
+#include "clearway/ui/robot_panel.h"
+#include "clearway/ui/scene_view.h"
+#include "clearway/ui/segmentation_session.h"
+
+using namespace clearway::ui;
+
+Q_DECLARE_METATYPE(std::shared_ptr<const clearway::Scan>)
+
+namespace {
+
+constexpr int kTimeoutMs = 30000;
+// Longer than the robot debounce and a re-run of the garage: a result would have come by then.
+constexpr int kSettleMs = 3500;
+
+QString writeCorruptScan(const QTemporaryDir& directory) {
+  const QString path = directory.filePath("corrupt.pcd");
+  QFile file(path);
+  file.open(QIODevice::WriteOnly);
+  file.write(
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1000000\nHEIGHT 1\nDATA "
+      "binary\nxx");
+  return path;
+}
+
+void closeErrorDialogs(QWidget& window) {
+  for (auto* dialog : window.findChildren<QMessageBox*>("errorDialog"))
+    dialog->close();
+}
+
+}  // namespace
+
+class ConsoleTruthTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() {
+    QStandardPaths::setTestModeEnabled(true);
+    QCoreApplication::setApplicationName("clearway-truth-test");
+    QSettings().clear();
+    qRegisterMetaType<std::shared_ptr<const clearway::Scan>>();
+    QVERIFY(directory_.isValid());
+  }
+
+  void init() { QSettings().clear(); }
+
+  // Defect 1: a failed open used to leave the previous map on screen, green through the door.
+  void aFailedOpenClearsTheViewsAndTheyStayClear() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    QSignalSpy failed(&window, &MainWindow::failureShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(window.mapView()->hasResult());
+    QVERIFY(window.windowTitle().contains("garage.pcd"));
+    window.openScan(writeCorruptScan(directory_));
+    QVERIFY(failed.wait(kTimeoutMs));
+    closeErrorDialogs(window);
+    QVERIFY(!window.mapView()->hasResult());
+    QVERIFY(window.mapView()->image().isNull());
+    QVERIFY(!window.sceneView()->shownScan());
+    QVERIFY(!window.windowTitle().contains("garage.pcd"));
+    // A new robot cannot bring the old scan's map back.
+    window.findChild<QDoubleSpinBox*>("robot_width_spin")->setValue(1.5);
+    QTest::qWait(kSettleMs);
+    QCOMPARE(shown.count(), 1);
+    QVERIFY(!window.mapView()->hasResult());
+  }
+
+  void aCancelledOpenClearsTheViewsToo() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    QSignalSpy failed(&window, &MainWindow::failureShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    window.openScan(CLEARWAY_SAMPLES_DIR "/hallway.pcd");
+    window.session()->cancel();
+    QTRY_VERIFY_WITH_TIMEOUT(failed.count() + shown.count() > 1, kTimeoutMs);
+    closeErrorDialogs(window);
+    if (failed.count() > 0) {  // cancelled in time: nothing shown
+      QVERIFY(!window.mapView()->hasResult());
+      QVERIFY(window.windowTitle().contains("no scan"));
+    } else {  // finished first: the hallway, named in the title
+      QVERIFY(window.windowTitle().contains("hallway.pcd"));
+    }
+  }
+
+  // Defect 2: an acquisition marks the shown map as the previous scan, the first acquisition shows
+  // its growing cloud, the scan's time and age are shown, the progress bar ends reset.
+  void anAcquisitionGreysThePreviousMapAndShowsTheNewCloud() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(window.findChild<QLabel*>("scanAge")->text().contains("Scan taken"));
+    QVERIFY(!window.mapView()->isStale());
+    HardwarePanel* panel = window.hardwarePanel();
+    panel->setScanFolder(directory_.filePath("acquired"));
+    panel->setSpeedup(400);
+    auto* scan_button = window.findChild<QPushButton*>("scanButton");
+    panel->connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
+    QSignalSpy arriving(panel, &HardwarePanel::linesArrived);
+    QSignalSpy saved(panel, &HardwarePanel::scanSaved);
+    scan_button->click();
+    // At once: the map is the previous scan, greyed, with its age.
+    QVERIFY(window.shownIsPrevious());
+    QVERIFY(window.mapView()->isStale());
+    QVERIFY(arriving.wait(kTimeoutMs));
+    // The first acquisition's cloud reaches the 3D view as it grows.
+    const auto latest = arriving.last().at(0).value<std::shared_ptr<const clearway::Scan>>();
+    QCOMPARE(window.sceneView()->shownScan(), latest);
+    QVERIFY(saved.count() == 1 || saved.wait(kTimeoutMs));
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(!window.shownIsPrevious());
+    QVERIFY(!window.mapView()->isStale());
+    QVERIFY(window.windowTitle().contains("rosi-"));
+    auto* bar = window.findChild<QProgressBar*>("scanProgress");
+    QVERIFY2(bar->value() <= bar->minimum(),
+             qPrintable(QString("scan progress still at %1").arg(bar->value())));
+  }
+
+  // Defect 3: at the sliders' ends the engine accepts the robot: no error, a new map, "custom".
+  void theRobotPanelOffersOnlyWhatTheEngineAccepts() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    QSignalSpy failed(&window, &MainWindow::failureShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    RobotPanel* robot = window.robotPanel();
+    for (const char* key : {"robot_width", "robot_length", "robot_height", "robot_max_step"}) {
+      auto* slider = window.findChild<QSlider*>(QString(key) + "_slider");
+      QVERIFY(slider);
+      for (const int end : {slider->minimum(), slider->maximum()}) {
+        slider->setValue(end);
+        clearway::SegmentationParams params = window.session()->params();
+        params.robot = robot->robot();
+        QVERIFY2(params.validate().empty(), qPrintable(QString("%1 at %2").arg(key).arg(end)));
+      }
+    }
+    auto* width = window.findChild<QSlider*>("robot_width_slider");
+    width->setValue(width->minimum());
+    QVERIFY(shown.wait(kTimeoutMs));
+    QCOMPARE(failed.count(), 0);
+    QCOMPARE(robot->presetName(), QString("custom"));
+    QVERIFY(window.windowTitle().contains("custom"));
+  }
+
+  // Defect 7: fits 1366x768 at first start, remembers its layout, View menu and shortcuts.
+  void theWindowFitsASmallScreenAndRemembersItsLayout() {
+    {
+      MainWindow window;
+      window.show();
+      const QSize minimum = window.minimumSizeHint();
+      QVERIFY2(minimum.width() <= 1366 && minimum.height() <= 740,
+               qPrintable(QString("needs %1x%2").arg(minimum.width()).arg(minimum.height())));
+      window.resize(1366, 740);
+      QTest::qWait(50);
+      QVERIFY(window.statusBar()->isVisible());
+      QVERIFY(window.statusBar()->geometry().bottom() < window.height());
+      auto* robot_dock = window.findChild<QDockWidget*>("robotDock");
+      QVERIFY(robot_dock->geometry().bottom() < window.statusBar()->geometry().top());
+      robot_dock->hide();
+      window.resize(1000, 700);
+      window.close();
+    }
+    MainWindow again;
+    again.show();
+    QTest::qWait(50);
+    QVERIFY(!again.findChild<QDockWidget*>("robotDock")->isVisible());
+    QCOMPARE(again.size(), QSize(1000, 700));
+    // The View menu brings a closed panel back.
+    QMenu* view = again.findChild<QMenu*>("viewMenu");
+    QVERIFY(view);
+    bool robot_toggle = false;
+    for (QAction* action : again.findChildren<QAction*>())
+      if (action->text() == "Robot" && action->isCheckable()) {
+        robot_toggle = true;
+        action->trigger();
+      }
+    QVERIFY(robot_toggle);
+    QVERIFY(again.findChild<QDockWidget*>("robotDock")->isVisible());
+  }
+
+  void everyOperatorActionHasAShortcut() {
+    MainWindow window;
+    QStringList keys;
+    for (QAction* action : window.findChildren<QAction*>())
+      if (!action->shortcut().isEmpty()) keys << action->shortcut().toString();
+    for (const char* expected :
+         {"Ctrl+1", "Ctrl+2", "Ctrl+3", "Ctrl+4", "Ctrl+Shift+1", "Ctrl+Shift+5", "F5", "Esc",
+          "PgUp", "PgDown", "]", "[", "F", "M", "Ctrl+O"})
+      QVERIFY2(keys.contains(expected),
+               qPrintable(QString(expected) + " missing from " + keys.join(' ')));
+  }
+
+  void theWidthShortcutsChangeTheRobot() {
+    MainWindow window;
+    const double before = window.robotPanel()->robot().width;
+    for (QAction* action : window.findChildren<QAction*>())
+      if (action->shortcut() == QKeySequence(Qt::Key_BracketRight)) action->trigger();
+    QCOMPARE(window.robotPanel()->robot().width, before + 0.05);
+  }
+
+  // Defect 8: max slope re-segments the scan in memory (same scan, camera kept), no reload.
+  void changingMaxSlopeDoesNotReloadTheFile() {
+    MainWindow window;
+    window.show();
+    QSignalSpy ready(window.session(), &SegmentationSession::resultReady);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/hallway.pcd");
+    QVERIFY(ready.wait(kTimeoutMs));
+    const auto first = ready.takeFirst().at(0).value<SessionResult>();
+    window.findChild<QDoubleSpinBox*>("ground_max_slope_deg_spin")->setValue(5);
+    QVERIFY(ready.wait(kTimeoutMs));
+    const auto second = ready.takeLast().at(0).value<SessionResult>();
+    QCOMPARE(second.scan, first.scan);  // the same scan in memory, not a new load
+    QCOMPARE(second.result->analysis.ground_found, true);
+  }
+
+  void exportsGetTheirExtensionAndSaySo() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    QSignalSpy exported(&window, &MainWindow::exported);
+    MapPictureOptions picture;
+    picture.pixels_per_metre = 50;
+    QCOMPARE(window.exportTo(ExportKind::kMapPicture, directory_.filePath("garage-map"), picture),
+             QString());
+    const QString file = directory_.filePath("garage-map.png");
+    QCOMPARE(exported.count(), 1);
+    QCOMPARE(exported.takeFirst().at(0).toString(), file);
+    QVERIFY(window.statusBar()->currentMessage().contains("garage-map.png"));
+    const QImage image(file);
+    // At 50 px/m the 12 m garage map is far larger than one pixel per 5 cm cell.
+    const auto& grid = window.mapView()->image();
+    QVERIFY2(image.width() > 2 * grid.width(),
+             qPrintable(QString("%1 vs %2").arg(image.width()).arg(grid.width())));
+    QCOMPARE(window.exportTo(ExportKind::kReportJson, directory_.filePath("report"), {}),
+             QString());
+    QVERIFY(QFileInfo::exists(directory_.filePath("report.json")));
+  }
+
+  void theParametersAreNamedInWordsWithUnitsPerStage() {
+    ParametersDialog dialog(clearway::SegmentationParams{});
+    auto* label = dialog.findChild<QLabel*>("lines_max_deviation_label");
+    QVERIFY(label);
+    QVERIFY(!label->text().contains("lines."));
+    QVERIFY(label->text().contains("[m]"));
+    QVERIFY(dialog.findChild<QGroupBox*>("group_lines"));
+    QVERIFY(dialog.findChild<QGroupBox*>("group_map"));
+  }
+
+  void theScanPanelSpeaksInWordsWithDetailsBehindAToggle() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    const QString summary = window.findChild<QLabel*>("scanInfo")->text();
+    QVERIFY(summary.contains("scan lines"));
+    QVERIFY(summary.contains("Taken"));
+    auto* details = window.findChild<QLabel*>("scanDetails");
+    QVERIFY(!details->isVisible());
+    window.findChild<QToolButton*>("scanDetailsToggle")->click();
+    QVERIFY(details->isVisible());
+    QVERIFY(details->text().contains("total"));
+    // No per-stage timings in the status bar.
+    QVERIFY(!window.findChild<QLabel*>("timings"));
+  }
+
+ private:
+  QTemporaryDir directory_;
+};
+
+QTEST_MAIN(ConsoleTruthTest)
+#include "console_truth_test.moc"

@@ -1,0 +1,239 @@
+// Issue #13, defects 5 and 6, under QT_QPA_PLATFORM=offscreen: the map shows the robot, a click is
+// not a drag, the hover readout leaves with the cursor, a resize keeps the zoom and Fit restores
+// it, distances are measured; the palette stays distinct under simulated deuteranopia and backs
+// careful/obstacle with hatching.
+
+#include <QLabel>
+#include <QSettings>
+#include <QSignalSpy>
+#include <QStandardPaths>
+#include <QtTest>
+#include <cmath>
+
+#include "clearway/ui/main_window.h"
+#include "clearway/ui/map_picture.h"
+#include "clearway/ui/map_view.h"
+#include "clearway/ui/palette.h"
+#include "clearway/ui/segmentation_session.h"
+
+using namespace clearway::ui;
+using clearway::CellLabel;
+
+namespace {
+
+constexpr int kTimeoutMs = 30000;
+// Smallest colour difference (CIE76) we accept between two classes under deuteranopia: about
+// the difference between two clearly different named colours.
+constexpr double kMinDeltaE = 20.0;
+
+void click(QWidget* widget, QPoint at) {
+  QTest::mousePress(widget, Qt::LeftButton, Qt::NoModifier, at);
+  QTest::mouseRelease(widget, Qt::LeftButton, Qt::NoModifier, at);
+}
+
+void drag(QWidget* widget, QPoint from, QPoint to) {
+  QTest::mousePress(widget, Qt::LeftButton, Qt::NoModifier, from);
+  QMouseEvent move(QEvent::MouseMove, to, Qt::LeftButton, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(widget, &move);
+  QTest::mouseRelease(widget, Qt::LeftButton, Qt::NoModifier, to);
+}
+
+}  // namespace
+
+class MapViewTest : public QObject {
+  Q_OBJECT
+
+ private slots:
+  void initTestCase() {
+    QStandardPaths::setTestModeEnabled(true);
+    QCoreApplication::setApplicationName("clearway-map-view-test");
+    QSettings().clear();
+    window_ = std::make_unique<MainWindow>();
+    window_->resize(1400, 900);
+    window_->show();
+    QSignalSpy shown(window_.get(), &MainWindow::resultShown);
+    window_->openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+  }
+
+  void cleanupTestCase() { window_.reset(); }
+
+  // Defect 5: the robot is drawn at its pose with its heading (white arrow along map +x).
+  void theMapShowsTheRobotAndItsHeading() {
+    MapView* map = window_->mapView();
+    QCOMPARE(map->robotPose().x, 0.0);
+    QCOMPARE(map->robotPose().yaw, 0.0);
+    map->fit();
+    const QImage picture = map->grab().toImage();
+    const QPointF on_arrow = map->toWidget(0.4, 0.0);
+    const QColor arrow(picture.pixel(on_arrow.toPoint()));
+    QVERIFY2(arrow.red() > 200 && arrow.green() > 200 && arrow.blue() > 200,
+             qPrintable(arrow.name()));
+    // Turned to face +y, the arrow leaves (0.4, 0) and points along y.
+    map->setRobotPose(0, 0, M_PI / 2);
+    const QImage turned = map->grab().toImage();
+    const QColor off(turned.pixel(on_arrow.toPoint()));
+    QVERIFY2(!(off.red() > 200 && off.green() > 200 && off.blue() > 200), qPrintable(off.name()));
+    const QColor up(turned.pixel(map->toWidget(0.0, 0.4).toPoint()));
+    QVERIFY2(up.red() > 200 && up.green() > 200 && up.blue() > 200, qPrintable(up.name()));
+    map->setRobotPose(0, 0, 0);
+  }
+
+  void aDragPansWithoutSelectingAndAClickSelectsWithoutPanning() {
+    MapView* map = window_->mapView();
+    map->fit();
+    QSignalSpy clicked(map, &MapView::clicked);
+    const QPointF before = map->toWidget(0, 0);
+    drag(map, QPoint(200, 200), QPoint(260, 230));
+    QCOMPARE(clicked.count(), 0);
+    QCOMPARE(map->toWidget(0, 0), before + QPointF(60, 30));
+    const QPointF after_drag = map->toWidget(0, 0);
+    click(map, QPoint(200, 200));
+    QCOMPARE(clicked.count(), 1);
+    QCOMPARE(map->toWidget(0, 0), after_drag);
+  }
+
+  void theHoverReadoutLeavesWithTheCursor() {
+    MapView* map = window_->mapView();
+    auto* hover = window_->findChild<QLabel*>("hoverText");
+    QMouseEvent move(QEvent::MouseMove, map->toWidget(1.0, -1.0), Qt::NoButton, Qt::NoButton,
+                     Qt::NoModifier);
+    QApplication::sendEvent(map, &move);
+    QVERIFY(!hover->text().isEmpty());
+    QEvent leave(QEvent::Leave);
+    QApplication::sendEvent(map, &leave);
+    QVERIFY(hover->text().isEmpty());
+  }
+
+  void aResizeKeepsTheZoomAndFitRestoresIt() {
+    MapView* map = window_->mapView();
+    map->fit();
+    QWheelEvent wheel(QPointF(100, 100), QPointF(map->mapToGlobal(QPoint(100, 100))), {}, {0, 480},
+                      Qt::NoButton, Qt::NoModifier, Qt::NoScrollPhase, false);
+    QApplication::sendEvent(map, &wheel);
+    const double zoomed = map->pixelsPerMetre();
+    map->resize(map->width() - 40, map->height() - 30);
+    QCOMPARE(map->pixelsPerMetre(), zoomed);
+    map->fit();
+    QVERIFY(map->pixelsPerMetre() < zoomed);
+  }
+
+  void twoClicksMeasureADistance() {
+    MapView* map = window_->mapView();
+    map->fit();
+    map->setMeasuring(true);
+    QSignalSpy measured(map, &MapView::measured);
+    click(map, map->toWidget(1.0, -2.0).toPoint());
+    click(map, map->toWidget(1.0, 1.0).toPoint());
+    QCOMPARE(measured.count(), 1);
+    QVERIFY(std::abs(measured.takeFirst().at(0).toDouble() - 3.0) < 2.0 / map->pixelsPerMetre());
+    map->setMeasuring(false);
+  }
+
+  void theDoorsWidthIsShownWhenHovered() {
+    // The garage door: 0.9 m wide in the front wall at map x ~ 4 m (garage.json), y ~ -1 m.
+    MapView* map = window_->mapView();
+    std::vector<double> widths;
+    for (double x = 3.9; x < 4.3; x += 0.05)
+      for (double y = -1.2; y < -0.8; y += 0.05) {
+        const double width = map->passageWidthAt(x, y);
+        if (!std::isnan(width)) widths.push_back(width);
+      }
+    QVERIFY(widths.size() > 10);
+    std::sort(widths.begin(), widths.end());
+    const double median = widths[widths.size() / 2];
+    QVERIFY2(median > 0.7 && median < 1.1, qPrintable(QString::number(median)));
+    // In the open garage there is no passage to speak of.
+    QVERIFY(std::isnan(map->passageWidthAt(1.0, -1.0)));
+  }
+
+  // Ready for the engine's reachability: free cells out of reach are dimmed, a path is drawn.
+  void cellsOutOfReachAreDimmedAndAPathIsDrawn() {
+    MapView* map = window_->mapView();
+    map->fit();
+    const QRgb green = cellColour(CellLabel::kTraversable, PaletteKind::kColourBlindSafe).rgb();
+    auto countGreen = [&] {
+      int count = 0;
+      const QImage& image = map->image();
+      for (int y = 0; y < image.height(); ++y)
+        for (int x = 0; x < image.width(); ++x)
+          count += image.pixel(x, y) == green;
+      return count;
+    };
+    const int all = countGreen();
+    QVERIFY(all > 1000);
+    const std::size_t cells = map->image().width() * std::size_t(map->image().height());
+    map->setReachable(std::vector<std::uint8_t>(cells, 0));
+    QCOMPARE(countGreen(), 0);
+    map->setReachable(std::vector<std::uint8_t>(cells, 1));
+    QCOMPARE(countGreen(), all);
+    map->setReachable({});
+    const QImage before = map->grab().toImage();
+    map->setPath({{1.0, -1.0, 0.0}, {2.0, -1.0, 0.0}, {3.0, -1.0, 0.0}});
+    const QImage after = map->grab().toImage();
+    QVERIFY(before != after);
+    map->setPath({});
+  }
+
+  // Defect 6: under deuteranopia (Machado 2009) every pair of classes stays apart.
+  void thePaletteStaysDistinctUnderDeuteranopia() {
+    const CellLabel labels[] = {CellLabel::kTraversable, CellLabel::kCareful, CellLabel::kObstacle,
+                                CellLabel::kImpassable, CellLabel::kUnknown};
+    double smallest = 1e9;
+    for (const CellLabel a : labels)
+      for (const CellLabel b : labels) {
+        if (a >= b) continue;
+        const double difference =
+            deltaE(simulateDeuteranopia(cellColour(a, PaletteKind::kColourBlindSafe)),
+                   simulateDeuteranopia(cellColour(b, PaletteKind::kColourBlindSafe)));
+        smallest = std::min(smallest, difference);
+        QVERIFY2(difference >= kMinDeltaE,
+                 qPrintable(
+                     QString("classes %1 and %2: dE %3").arg(int(a)).arg(int(b)).arg(difference)));
+      }
+    qInfo("smallest deuteranopia dE between classes: %.1f", smallest);
+    // The classic palette is the one that fails (traversable vs impassable ~ 12).
+    const double classic =
+        deltaE(simulateDeuteranopia(cellColour(CellLabel::kTraversable, PaletteKind::kClassic)),
+               simulateDeuteranopia(cellColour(CellLabel::kImpassable, PaletteKind::kClassic)));
+    qInfo("classic palette, traversable vs impassable: %.1f", classic);
+    QVERIFY2(classic < kMinDeltaE, qPrintable(QString::number(classic)));
+  }
+
+  void carefulAndObstacleCellsAreHatched() {
+    int careful_hatched = 0, careful_plain = 0;
+    for (int column = 0; column < 8; ++column)
+      for (int row = 0; row < 8; ++row)
+        (cellHatched(CellLabel::kCareful, column, row) ? careful_hatched : careful_plain)++;
+    QVERIFY(careful_hatched > 0 && careful_plain > 0);
+    QVERIFY(!cellHatched(CellLabel::kTraversable, 0, 0));
+    // Obstacle hatching is a cross: more cells than careful's single diagonal.
+    int obstacle_hatched = 0;
+    for (int column = 0; column < 8; ++column)
+      for (int row = 0; row < 8; ++row)
+        obstacle_hatched += cellHatched(CellLabel::kObstacle, column, row);
+    QVERIFY(obstacle_hatched > careful_hatched);
+  }
+
+  void theMapPictureHasTheMapAtTheChosenScale() {
+    SegmentationSession session;
+    QSignalSpy ready(&session, &SegmentationSession::resultReady);
+    session.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(ready.wait(kTimeoutMs));
+    const auto result = ready.takeFirst().at(0).value<SessionResult>();
+    const auto& grid = result.result->map.grid;
+    const QImage small = renderMapPicture(*result.result, 20, PaletteKind::kColourBlindSafe, {});
+    const QImage large = renderMapPicture(*result.result, 80, PaletteKind::kColourBlindSafe, {});
+    QVERIFY(!small.isNull() && !large.isNull());
+    const double map_metres = grid.width * grid.resolution;
+    QVERIFY(large.width() - small.width() > int(0.9 * 60 * map_metres));
+    // Too fine a scale for a picture: refused, not a huge allocation.
+    QVERIFY(renderMapPicture(*result.result, 5000, PaletteKind::kColourBlindSafe, {}).isNull());
+  }
+
+ private:
+  std::unique_ptr<MainWindow> window_;
+};
+
+QTEST_MAIN(MapViewTest)
+#include "map_view_test.moc"
