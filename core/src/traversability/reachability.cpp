@@ -195,18 +195,26 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
   const std::size_t first =
       grid.index(start.x(), start.y()) * orientations + std::size_t(map.robot_orientation);
+  // A*: the straight-line distance to the goal never overestimates (green costs 1 per metre, turns
+  // cost more than nothing), so the first time the goal leaves the queue its path is cheapest.
+  const Eigen::Vector2d goal_centre = grid.centre(goal.x(), goal.y());
+  auto remaining = [&](std::size_t cell) {
+    const int column = int(cell % std::size_t(grid.width)), row = int(cell / std::size_t(grid.width));
+    return (grid.centre(column, row) - goal_centre).norm();
+  };
   cost[first] = 0.0;
-  queue.push({0.0, first});
+  queue.push({remaining(first / orientations), first});
   auto passable = [&](std::size_t state) {
     const auto f = PoseFit(map.pose_fit[state]);
     return f == PoseFit::kClear || f == PoseFit::kCareful;
   };
   std::int64_t reached = -1;
   while (!queue.empty()) {
-    const auto [here_cost, state] = queue.top();
+    const auto [priority, state] = queue.top();
     queue.pop();
-    if (here_cost > cost[state]) continue;
     const std::size_t cell = state / orientations;
+    const double here_cost = cost[state];
+    if (priority > here_cost + remaining(cell) + 1e-9) continue;  // a stale entry
     const int k = int(state % orientations);
     if (cell == goal_cell) {
       reached = std::int64_t(state);
@@ -222,7 +230,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
       if (next_cost < cost[next]) {
         cost[next] = next_cost;
         previous[next] = std::int64_t(state);
-        queue.push({next_cost, next});
+        queue.push({next_cost + remaining(next / orientations), next});
       }
     };
     for (int n = 0; n < 8; ++n) {

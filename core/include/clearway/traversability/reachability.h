@@ -50,7 +50,7 @@ struct GoalResult {
   double length_m = 0.0;       // driven length (turns on the spot add none)
 };
 
-// Dijkstra over (cell, orientation) on the fits the map recorded: prefers green over orange and
+// A* over (cell, orientation) on the fits the map recorded: prefers green over orange and
 // straight runs over turns. The goal is a map position; any orientation there will do.
 GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y);
 
