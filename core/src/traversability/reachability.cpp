@@ -26,6 +26,10 @@ constexpr double kPi = std::numbers::pi;
 // margin where it can; each turn step costs as much as this much straight driving [m].
 constexpr double kCarefulCostFactor = 3.0;
 constexpr double kTurnCost = 0.05;
+// Offsets of the scanner on the robot tried when no pose places the robot [m].
+constexpr double kMountSearchStep = 0.1;
+// One blocking return inside the box outweighs this many unobserved cells under it.
+constexpr std::size_t kBlockingWeight = 1000;
 // A path keeps a pose at least every this many cells, besides every turn.
 constexpr int kPathPoseEvery = 10;
 
@@ -49,39 +53,70 @@ RobotPose robotPoseOnMap(const ScanAnalysis& analysis, const RobotParams& robot,
     const Eigen::Vector3d forward = map_from_robot.linear() * Eigen::Vector3d::UnitX();
     return {origin.x(), origin.y(), std::atan2(forward.y(), forward.x())};
   }
-  // The scanner's foot is the map origin: the robot's centre lies behind it by the mounting's
-  // offset, turned with the robot.
-  auto poseFacing = [&](double yaw) {
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    return RobotPose{-(c * robot.mount_x - s * robot.mount_y),
-                     -(s * robot.mount_x + c * robot.mount_y), yaw};
-  };
+  // Without a recorded pose the scanner's foot (the map origin) is all that is known: the
+  // scanner is somewhere on the robot and the robot stands where its box fits. Tried: the
+  // mounting's offset first, then every offset that keeps the foot inside the box, in every
+  // orientation. The box with the fewest blocking returns wins, then the one standing most on
+  // observed ground (a scanner that sees one hemisphere leaves the floor behind it unknown, and a
+  // wall may stand there), then the nearest to the mounting.
   const double half_length = robot.length / 2, half_width = robot.width / 2;
-  const double radius =
-      std::hypot(half_length, half_width) + std::hypot(robot.mount_x, robot.mount_y);
-  std::vector<const MapObstacle*> near;
-  for (const MapObstacle& o : analysis.inputs.obstacles)
-    if (o.height > robot.max_step && o.height < robot.height &&
-        std::hypot(double(o.x), double(o.y)) <= radius)
-      near.push_back(&o);
-  std::vector<double> candidates = {-robot.mount_yaw_deg * kPi / 180.0};
-  candidates.insert(candidates.end(), yaws.begin(), yaws.end());
-  RobotPose best = poseFacing(candidates.front());
-  std::size_t fewest = std::numeric_limits<std::size_t>::max();
-  for (double yaw : candidates) {
-    const RobotPose pose = poseFacing(yaw);
-    const double c = std::cos(yaw), s = std::sin(yaw);
-    std::size_t inside = 0;
-    for (const MapObstacle* o : near) {
-      const double dx = o->x - pose.x, dy = o->y - pose.y;
-      inside +=
-          std::abs(dx * c + dy * s) <= half_length && std::abs(-dx * s + dy * c) <= half_width;
-    }
-    if (inside < fewest) {
-      fewest = inside;
-      best = pose;
-    }
+  const double resolution = analysis.inputs.grid.resolution;
+  const double window = 2 * std::hypot(half_length, half_width) +
+                        std::hypot(robot.mount_x, robot.mount_y) + resolution;
+  const int side = 2 * int(std::ceil(window / resolution)) + 1;
+  const int centre_cell = side / 2;
+  std::vector<std::uint16_t> blocking(std::size_t(side) * std::size_t(side), 0);
+  auto cellOf = [&](double x, double y) {
+    return Eigen::Vector2i(int(std::floor(x / resolution)) + centre_cell,
+                           int(std::floor(y / resolution)) + centre_cell);
+  };
+  for (const MapObstacle& o : analysis.inputs.obstacles) {
+    if (o.height <= robot.max_step || o.height >= robot.height) continue;
+    const Eigen::Vector2i c = cellOf(o.x, o.y);
+    if (c.x() < 0 || c.y() < 0 || c.x() >= side || c.y() >= side) continue;
+    std::uint16_t& count = blocking[std::size_t(c.y()) * std::size_t(side) + std::size_t(c.x())];
+    if (count < std::numeric_limits<std::uint16_t>::max()) ++count;
   }
+  const MapGrid& grid = analysis.inputs.grid;
+  const std::vector<std::int16_t>& ground_plane = analysis.inputs.ground_plane;
+  auto blockedInside = [&](const RobotPose& pose) {
+    const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+    std::size_t blocked = 0, unobserved = 0;
+    for (double u = -half_length + resolution / 2; u < half_length; u += resolution)
+      for (double v = -half_width + resolution / 2; v < half_width; v += resolution) {
+        const double x = pose.x + c * u - s * v, y = pose.y + s * u + c * v;
+        const Eigen::Vector2i cell = cellOf(x, y);
+        if (cell.x() >= 0 && cell.y() >= 0 && cell.x() < side && cell.y() < side)
+          blocked += blocking[std::size_t(cell.y()) * std::size_t(side) + std::size_t(cell.x())];
+        const Eigen::Vector2i map_cell = grid.cellOf(x, y);
+        unobserved += !grid.inside(map_cell.x(), map_cell.y()) ||
+                      ground_plane[grid.index(map_cell.x(), map_cell.y())] < 0;
+      }
+    return blocked * kBlockingWeight + unobserved;
+  };
+  // The scanner at (mount_x, mount_y) of the robot's frame, the robot turned by yaw.
+  auto poseFor = [&](double yaw, double mount_x, double mount_y) {
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    return RobotPose{-(c * mount_x - s * mount_y), -(s * mount_x + c * mount_y), yaw};
+  };
+  std::vector<double> headings = {-robot.mount_yaw_deg * kPi / 180.0};
+  headings.insert(headings.end(), yaws.begin(), yaws.end());
+  RobotPose best = poseFor(headings.front(), robot.mount_x, robot.mount_y);
+  std::size_t fewest = blockedInside(best);
+  double best_shift = 0.0;
+  const double step = std::max(kMountSearchStep, resolution);
+  for (double yaw : headings)
+    for (double dx = -half_length; dx <= half_length + 1e-9 && fewest > 0; dx += step)
+      for (double dy = -half_width; dy <= half_width + 1e-9 && fewest > 0; dy += step) {
+        const RobotPose pose = poseFor(yaw, dx, dy);
+        const std::size_t inside = blockedInside(pose);
+        const double shift = std::hypot(dx - robot.mount_x, dy - robot.mount_y);
+        if (inside < fewest || (inside == fewest && shift < best_shift)) {
+          fewest = inside;
+          best = pose;
+          best_shift = shift;
+        }
+      }
   return best;
 }
 

@@ -479,9 +479,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   reportProgress(progress, 0.8);
 
   // Where the robot can get from its own pose: the same tests as above, one pose at a time.
-  // The label loop above tried every orientation where nothing fits, so those cells are settled;
-  // where the box fits with margin in some orientation, the others get only the coarse test
-  // (a turn there is refused rather than proven by the exact one: never optimistic).
+  // The label loop above tried every orientation where nothing fits: those cells are settled.
   detail::searchReachable(map, [&](int column, int row, int k) {
     const std::size_t cell = map.grid.index(column, row);
     const auto label = CellLabel(map.labels[cell]);
@@ -492,7 +490,6 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
     if (free_radius > footprints.outer_radius) return PoseFit::kClear;
     if (free_radius >= footprints.inner_radius + 0.5F && tester.fitsEnlarged(column, row, k))
       return PoseFit::kClear;
-    if (label == CellLabel::kTraversable) return PoseFit::kBlocked;
     if (lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 2.3F &&
         tester.fitsExactlyInCell(column, row, k))
       return PoseFit::kCareful;
