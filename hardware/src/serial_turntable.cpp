@@ -47,7 +47,10 @@ std::string SerialTurntable::setSpeed(double degrees_per_second, int timeout_ms)
   return command(turntable::speedCommand(degrees_per_second), timeout_ms);
 }
 std::string SerialTurntable::start(int timeout_ms) {
-  return command(turntable::startCommand(), timeout_ms);
+  std::string error = command(turntable::startCommand(), timeout_ms);
+  // Angles read while waiting for the answers were sent before the table started: stale.
+  impl_->backlog.clear();
+  return error;
 }
 void SerialTurntable::stop() {
   impl_->serial.send(turntable::stopCommand());
