@@ -20,13 +20,6 @@ constexpr double kMillimetres = 1000.0;
 // A journal line holds at most 180 ranges of 6 characters: anything much longer is corrupt.
 constexpr std::size_t kMaxRecord = 4096;
 
-std::string formatNumber(double value) {
-  std::ostringstream out;
-  out.precision(12);
-  out << value;
-  return out.str();
-}
-
 }  // namespace
 
 ScanJournal::ScanJournal(std::filesystem::path path, int target_lines)
@@ -83,38 +76,60 @@ void ScanJournal::sync() {
 
 void ScanJournal::pose(const PoseReading& reading) {
   const RigidPose& p = reading.world_from_scanner;
-  std::string text = "POSE " + reading.source + " " + formatNumber(p.translation.x()) + " " +
-                     formatNumber(p.translation.y()) + " " + formatNumber(p.translation.z()) + " " +
-                     formatNumber(p.rotation.w()) + " " + formatNumber(p.rotation.x()) + " " +
-                     formatNumber(p.rotation.y()) + " " + formatNumber(p.rotation.z());
-  text += " " + (reading.arm_tilt_deg ? formatNumber(*reading.arm_tilt_deg) : std::string("-"));
-  text += " " + (reading.arm_roll_deg ? formatNumber(*reading.arm_roll_deg) : std::string("-"));
-  text += " " + (reading.time.empty() ? std::string("-") : reading.time) + "\n";
-  record(text, false);
+  std::ostringstream text;
+  text.precision(12);
+  text << "POSE " << reading.source << ' ' << p.translation.x() << ' ' << p.translation.y() << ' '
+       << p.translation.z() << ' ' << p.rotation.w() << ' ' << p.rotation.x() << ' '
+       << p.rotation.y() << ' ' << p.rotation.z() << ' ';
+  if (reading.arm_tilt_deg)
+    text << *reading.arm_tilt_deg;
+  else
+    text << '-';
+  text << ' ';
+  if (reading.arm_roll_deg)
+    text << *reading.arm_roll_deg;
+  else
+    text << '-';
+  text << ' ' << (reading.time.empty() ? std::string("-") : reading.time) << '\n';
+  record(text.str(), false);
 }
 
 void ScanJournal::angle(const turntable::AngleSample& sample) {
-  record("A " + std::to_string(sample.time_us) + " " +
-             std::to_string(std::lround(sample.angle_deg * 1000.0)) + "\n",
-         false);
+  std::ostringstream text;
+  text << "A " << sample.time_us << ' ' << std::lround(sample.angle_deg * 1000.0) << '\n';
+  record(text.str(), false);
 }
 
 void ScanJournal::line(std::int64_t time_us, const std::vector<std::optional<double>>& ranges) {
-  std::string text = "L " + std::to_string(time_us);
+  std::string text = "L ";
   text.reserve(ranges.size() * 6 + 24);
-  for (const auto& range : ranges)
-    text += range ? " " + std::to_string(std::lround(*range * kMillimetres)) : std::string(" -");
-  record(text + "\n", true);
+  text += std::to_string(time_us);
+  for (const auto& range : ranges) {
+    text += ' ';
+    if (range)
+      text += std::to_string(std::lround(*range * kMillimetres));
+    else
+      text += '-';
+  }
+  text += '\n';
+  record(text, true);
 }
 
 void ScanJournal::dropped(const std::string& reason) {
-  record("D " + reason + "\n", false);
+  std::string text = "D ";
+  text += reason;
+  text += '\n';
+  record(text, false);
 }
 
 void ScanJournal::end(bool complete, const std::string& reason) {
-  record("END " + std::string(complete ? "complete" : "incomplete") +
-             (reason.empty() ? "" : " " + reason) + "\n",
-         false);
+  std::string text = complete ? "END complete" : "END incomplete";
+  if (!reason.empty()) {
+    text += ' ';
+    text += reason;
+  }
+  text += '\n';
+  record(text, false);
   sync();
 }
 
