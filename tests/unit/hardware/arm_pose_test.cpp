@@ -1,7 +1,9 @@
 // The arm's pose: the protocol, the tilt/roll convention, the mounting, and the emulated arm
 // reporting the pose it really holds the scanner at.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include "clearway/hardware/arm_protocol.h"
 #include "clearway/hardware/pose_source.h"
@@ -76,11 +78,20 @@ TEST(ArmPoseSource, TheEmulatedArmReportsWhereItHoldsTheScannerAndMovesBetweenSc
   EXPECT_NEAR(reading.world_from_scanner.translation.z(), 1.2,
               1e-9);  // the garage's scanner height
 
-  emulator.moveArm(-10, 5);
+  // Between scans the arm moves (MOVE on its port, as `printf 'MOVE -10 5\n' > PORT` does).
+  {
+    const int port = ::open(emulator.armPort().c_str(), O_RDWR | O_NOCTTY);
+    ASSERT_GE(port, 0);
+    const std::string move = arm::moveCommand(-10, 5);
+    ASSERT_EQ(::write(port, move.data(), move.size()), ssize_t(move.size()));
+    ::close(port);
+  }
   const PoseReading moved = arm.read(1000);
   ASSERT_TRUE(moved.ok()) << moved.error;
   EXPECT_NEAR(*moved.arm_tilt_deg, -10, 1e-6);
   EXPECT_NEAR(*moved.arm_roll_deg, 5, 1e-6);
+  emulator.moveArm(12, -3);
+  EXPECT_NEAR(*arm.read(1000).arm_tilt_deg, 12, 1e-6);
 }
 
 TEST(ArmPoseSource, NoArmAndAFixedMountingAreToldApart) {

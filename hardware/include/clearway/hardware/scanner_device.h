@@ -47,6 +47,8 @@ class ScannerDevice : public QObject {
   void scanFinished(std::shared_ptr<const clearway::Scan> scan, bool complete);
   // An operator-readable reason.
   void failed(const QString& reason);
+  // Where the scanner is for the scan that starts (e.g. the arm's tilt and roll), in words.
+  void poseReceived(const QString& summary);
 
  protected:
   virtual void doConnect() = 0;
