@@ -248,8 +248,9 @@ struct RosiEmulator::Impl {
   }
 
   // One LMS200 line of 361 values in centimetres at the current angle.
-  void sendLine() {
-    const double beta = angle_deg * std::numbers::pi / 180.0;
+  // One line measured at `line_angle_deg`.
+  void sendLine(double line_angle_deg) {
+    const double beta = line_angle_deg * std::numbers::pi / 180.0;
     sim::ScannerPlacement where;
     {
       const std::lock_guard lock(pose_mutex);
@@ -338,7 +339,12 @@ struct RosiEmulator::Impl {
       const bool streaming = continuous && !laser_stalled;
       if (streaming && now - next_line > resync_gap) next_line = now;
       while (streaming && now >= next_line) {
-        sendLine();
+        // A line due earlier than now was measured where the table was then, as the real
+        // device measures at its fixed rate whenever the bytes get out.
+        const double late_s =
+            std::chrono::duration<double>(now - next_line).count() * options.speedup;
+        const double line_angle = turning ? angle_deg - speed_deg_s * late_s : angle_deg;
+        sendLine(std::fmod(line_angle + 360.0, 360.0));
         next_line += line_step;
       }
     }

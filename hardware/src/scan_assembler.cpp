@@ -68,7 +68,9 @@ std::optional<double> ScanAssembler::angleAt(std::int64_t time_us, bool extrapol
 void ScanAssembler::append(double angle_deg, const LineRanges& ranges) {
   if (!start_angle_) start_angle_ = angle_deg;
   turned_deg_ = angle_deg - *start_angle_;
-  const double beta = turned_deg_ * kDeg;
+  // beta is the table's own angle from its home mark, not from the first line: the scanner
+  // frame (and so the scan's pose) has beta = 0 at the home mark.
+  const double beta = angle_deg * kDeg;
   const float nan = std::numeric_limits<float>::quiet_NaN();
   scan_.lines.push_back({scan_.size(), std::size_t(kRosiPoints), beta});
   for (int k = 0; k < kRosiPoints; ++k) {

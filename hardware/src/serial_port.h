@@ -55,9 +55,9 @@ class SerialPort {
     ::cfmakeraw(&settings);
     ::cfsetspeed(&settings, B9600);  // the LMS200's speed after power-up; a pty ignores it
     ::tcsetattr(fd_, TCSANOW, &settings);
-    // Whatever a previous, killed run left in the buffers (a half line cut by a full buffer, a
-    // stream of measured values) would garble the first answers.
-    ::tcflush(fd_, TCIOFLUSH);
+    // Whatever a previous, killed run left unread (a half line cut by a full buffer, a stream
+    // of measured values) would garble the first answers.
+    ::tcflush(fd_, TCIFLUSH);
   }
   ~SerialPort() {
     if (fd_ >= 0) ::close(fd_);

@@ -63,6 +63,7 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
   AcquisitionOptions options;
   options.lines = request.lines;
   options.baud = baud_;
+  options.journal = request.journal;
   if (request.turntable_speed_deg_s > 0)
     options.turntable_speed_deg_s = request.turntable_speed_deg_s;
   const int expected = request.lines > 0 ? request.lines : 300;

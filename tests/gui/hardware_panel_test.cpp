@@ -2,6 +2,7 @@
 // edited and checked, and the arm's pose shown and saved beside the acquired scan.
 
 #include <QComboBox>
+#include <QDir>
 #include <QFile>
 #include <QJsonDocument>
 #include <QJsonObject>
@@ -94,6 +95,8 @@ class HardwarePanelTest : public QObject {
     QVERIFY2(arm_pose.contains("tilt 30.0") && arm_pose.contains("roll 60.0"),
              qPrintable(arm_pose));
     const QString path = saved.first().at(0).toString();
+    // The lines were journaled while they came; once the scan is saved the journal is gone.
+    QVERIFY(QDir(directory.filePath("serial")).entryList({"*.journal"}).isEmpty());
     QFile sidecar(QString(path).replace(".pcd", ".pose.json"));
     QVERIFY2(sidecar.open(QIODevice::ReadOnly), qPrintable(sidecar.fileName()));
     const QJsonObject json = QJsonDocument::fromJson(sidecar.readAll()).object();

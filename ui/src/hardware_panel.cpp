@@ -3,6 +3,7 @@
 #include <QComboBox>
 #include <QDateTime>
 #include <QDir>
+#include <QFile>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -42,6 +43,7 @@ struct HardwarePanel::Private {
   QLabel* mounting_label = nullptr;
   QLineEdit* mounting = nullptr;
   QLabel* arm_pose = nullptr;
+  QString journal;  // of the scan in progress on a serial device
   QPushButton* scan = nullptr;
   QPushButton* cancel = nullptr;
   QLabel* status = nullptr;
@@ -239,7 +241,12 @@ void HardwarePanel::connectScanner() {
                              QDateTime::currentDateTime().toString("yyyyMMdd-hhmmss-zzz") +
                              (complete ? "" : "-partial") + ".pcd";
         const QString path = QDir(d_->folder).filePath(name);
+        const auto forgetJournal = [this] {
+          if (!d_->journal.isEmpty()) QFile::remove(d_->journal);
+          d_->journal.clear();
+        };
         if (scan->empty()) {
+          forgetJournal();
           emit statusChanged(
               tr("The scan was cancelled before any line arrived; nothing to keep."));
           return;
@@ -253,9 +260,14 @@ void HardwarePanel::connectScanner() {
                                     hardware::poseSidecarJson(*serial->lastPose()));
         } catch (const std::exception& error) {
           emit statusChanged(
-              tr("The scan could not be saved: %1").arg(QString::fromUtf8(error.what())));
+              tr("The scan could not be saved: %1").arg(QString::fromUtf8(error.what())) +
+              (d_->journal.isEmpty() ? QString()
+                                     : tr(" Its lines are kept in %1 (clearway-cli acquire "
+                                          "--recover).")
+                                           .arg(d_->journal)));
           return;
         }
+        forgetJournal();
         emit statusChanged(
             complete
                 ? tr("Scan saved to %1.").arg(path)
@@ -281,6 +293,16 @@ void HardwarePanel::startScan() {
   if (!d_->scanner) return;
   hardware::ScanRequest request;
   request.lines = d_->lines->value();
+  if (dynamic_cast<hardware::SerialRosi*>(d_->scanner.get())) {
+    // Every line journaled as it arrives: a crash of the console keeps them (recover with
+    // clearway-cli acquire --recover, docs/JOURNAL.md).
+    QDir().mkpath(d_->folder);
+    d_->journal =
+        QDir(d_->folder)
+            .filePath("rosi-" + QDateTime::currentDateTime().toString("yyyyMMdd-hhmmss-zzz") +
+                      ".journal");
+    request.journal = d_->journal.toStdString();
+  }
   d_->progress->setValue(0);
   d_->scanner->startScan(request);
 }
