@@ -98,6 +98,7 @@ struct RosiEmulator::Impl {
   lms200::Parser lms_parser;
   turntable::LineSplitter turntable_lines;
   bool continuous = false;
+  bool was_streaming = false;
   bool turning = false;
   double speed_deg_s = 45.0;
   double angle_deg = 0.0;
@@ -302,6 +303,7 @@ struct RosiEmulator::Impl {
       if (stalled || lms_fd < 0) {
         // A hung device: it reads nothing, answers nothing; time still passes for the table.
         last_step = now;
+        was_streaming = false;
         continue;
       }
       if ((fds[0].revents & POLLIN) && !laser_stalled) {
@@ -334,10 +336,12 @@ struct RosiEmulator::Impl {
       // coarser than a line at high speed-ups): the lines that are due are sent together, as a
       // serial buffer would deliver them. After a long gap (a stall) the schedule starts afresh.
       const auto line_step = std::chrono::duration_cast<Clock::duration>(line_period);
-      const Clock::duration resync_gap =
-          std::max<Clock::duration>(8 * line_step, std::chrono::milliseconds(100));
-      const bool streaming = continuous && !laser_stalled;
-      if (streaming && now - next_line > resync_gap) next_line = now;
+      // The laser measures at its fixed rate from the moment it streams; a hung laser measures
+      // nothing, so its schedule starts afresh when it streams again. A late loop (a busy
+      // machine) sends every line that fell due, each measured where the table was then.
+      const bool streaming = continuous && !laser_stalled && !stalled;
+      if (streaming && !was_streaming) next_line = now;
+      was_streaming = streaming;
       while (streaming && now >= next_line) {
         // A line due earlier than now was measured where the table was then, as the real
         // device measures at its fixed rate whenever the bytes get out.

@@ -17,6 +17,55 @@ LineRanges rosiHalf(const std::vector<std::optional<double>>& lms_ranges) {
   return LineRanges(lms_ranges.begin() + (kLmsValues - 1) / 2, lms_ranges.end() - 1);
 }
 
+std::size_t LineClock::arrive(std::int64_t arrival_us) {
+  arrivals_.push_back(arrival_us);
+  const std::size_t n = arrivals_.size();
+  if (n > kWarmUp) {
+    // A first guess of the period, then its slope between the least-delayed telegrams of the
+    // first and the last window (relative to that guess).
+    const double rough = double(arrival_us - arrivals_.front()) / double(n - 1);
+    const std::size_t window = std::min(kWindow, n / 2);
+    const std::size_t early = leastDelayed(0, window, rough);
+    const std::size_t late = leastDelayed(n - window, n, rough);
+    period_us_ =
+        late > early ? double(arrivals_[late] - arrivals_[early]) / double(late - early) : rough;
+  }
+  return n - 1;
+}
+
+std::size_t LineClock::leastDelayed(std::size_t from, std::size_t to, double period) const {
+  std::size_t best = from;
+  for (std::size_t j = from; j < to; ++j)
+    if (double(arrivals_[j]) - double(j) * period < double(arrivals_[best]) - double(best) * period)
+      best = j;
+  return best;
+}
+
+std::int64_t LineClock::stampOf(std::size_t index) {
+  const std::size_t n = arrivals_.size();
+  std::int64_t stamp = arrivals_[index];
+  if (n > kWarmUp) {
+    const std::size_t from = index > kWindow / 2 ? index - kWindow / 2 : 0;
+    const std::size_t to = std::min(n, index + kWindow / 2 + 1);
+    const std::size_t anchor = leastDelayed(from, to, period_us_);
+    stamp = arrivals_[anchor] + std::int64_t((double(index) - double(anchor)) * period_us_);
+    stamp = std::min(stamp, arrivals_[index]);  // never after it arrived
+  }
+  stamp = std::max(stamp, last_stamp_ + 1);  // in order
+  last_stamp_ = stamp;
+  return stamp;
+}
+
+std::int64_t LineClock::finalStampOf(std::size_t index) const {
+  const std::size_t n = arrivals_.size();
+  if (n <= kWarmUp) return arrivals_[index];
+  // The grid under all arrivals: shifted to the least-delayed telegram of the whole scan.
+  const std::size_t anchor = leastDelayed(0, n, period_us_);
+  const std::int64_t stamp =
+      arrivals_[anchor] + std::int64_t((double(index) - double(anchor)) * period_us_);
+  return std::min(stamp, arrivals_[index]);
+}
+
 ScanAssembler::ScanAssembler(int target_lines) : target_lines_(target_lines) {
   scan_.metadata.format = "rosi acquisition";
   scan_.metadata.frame = "RoSi scanner frame: metres, z = turntable axis";
@@ -37,13 +86,28 @@ void ScanAssembler::addAngle(const turntable::AngleSample& sample) {
   last_angle_[1] = unwrapped;
 }
 
-void ScanAssembler::addLine(std::int64_t time_us, LineRanges ranges) {
+void ScanAssembler::addLine(std::int64_t arrival_us, LineRanges ranges) {
+  const std::size_t telegram = clock_.arrive(arrival_us);
   if (complete_ || ranges.size() != std::size_t(kRosiPoints)) return;
-  if (pending_.size() >= kMaxPendingLines) {
-    pending_.pop_front();
-    ++untagged_;
+  unstamped_.push_back({telegram, std::move(ranges)});
+  stampLines(false);
+}
+
+void ScanAssembler::addLostTelegram(std::int64_t arrival_us) {
+  clock_.arrive(arrival_us);
+  stampLines(false);
+}
+
+void ScanAssembler::stampLines(bool all) {
+  while (!unstamped_.empty() && (all || unstamped_.front().telegram + kStampLag < clock_.count())) {
+    if (pending_.size() >= kMaxPendingLines) {
+      pending_.pop_front();
+      ++untagged_;
+    }
+    Unstamped& line = unstamped_.front();
+    pending_.push_back({clock_.stampOf(line.telegram), std::move(line.ranges), line.telegram});
+    unstamped_.pop_front();
   }
-  pending_.push_back({time_us, std::move(ranges)});
 }
 
 std::optional<double> ScanAssembler::angleAt(std::int64_t time_us, bool extrapolate) const {
@@ -65,7 +129,8 @@ std::optional<double> ScanAssembler::angleAt(std::int64_t time_us, bool extrapol
   return last_angle_[1] + speed * double(time_us - last_time_[1]);
 }
 
-void ScanAssembler::append(double angle_deg, const LineRanges& ranges) {
+void ScanAssembler::append(double angle_deg, const LineRanges& ranges, std::size_t telegram) {
+  line_telegrams_.push_back(telegram);
   if (!start_angle_) start_angle_ = angle_deg;
   turned_deg_ = angle_deg - *start_angle_;
   // beta is the table's own angle from its home mark, not from the first line: the scanner
@@ -106,24 +171,51 @@ std::size_t ScanAssembler::place() {
       }
       break;  // after the last sample: waits for the next one
     }
-    append(*angle, pending_.front().ranges);
+    append(*angle, pending_.front().ranges, pending_.front().telegram);
     pending_.pop_front();
     ++placed;
   }
-  if (complete_) pending_.clear();  // beyond the revolution: not part of this scan
+  if (complete_) {  // beyond the revolution: not part of this scan
+    pending_.clear();
+    unstamped_.clear();
+  }
   return placed;
 }
 
 void ScanAssembler::finishIncomplete() {
+  stampLines(true);
   place();
   while (!complete_ && !pending_.empty()) {
     if (const auto angle = angleAt(pending_.front().time_us, true))
-      append(*angle, pending_.front().ranges);
+      append(*angle, pending_.front().ranges, pending_.front().telegram);
     else
       ++untagged_;
     pending_.pop_front();
   }
   pending_.clear();
+}
+
+}  // namespace clearway::hardware::detail
+
+namespace clearway::hardware::detail {
+
+void ScanAssembler::refine() {
+  for (std::size_t l = 0; l < scan_.lines.size(); ++l) {
+    const auto angle = angleAt(clock_.finalStampOf(line_telegrams_[l]), true);
+    if (!angle) continue;  // keeps the angle it had
+    ScanLine& line = scan_.lines[l];
+    const double turn = *angle * kDeg - line.beta;
+    // x = cos(beta) cos(alpha) d, y = sin(beta) cos(alpha) d: a new beta turns (x, y) about z.
+    const double c = std::cos(turn), s = std::sin(turn);
+    for (std::size_t i = line.first; i < line.first + line.count; ++i) {
+      if (!scan_.isValid(i)) continue;
+      Point3f& p = scan_.points[i];
+      const double x = p.x, y = p.y;
+      p.x = float(c * x - s * y);
+      p.y = float(s * x + c * y);
+    }
+    line.beta = *angle * kDeg;
+  }
 }
 
 }  // namespace clearway::hardware::detail

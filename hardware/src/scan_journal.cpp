@@ -22,8 +22,7 @@ constexpr std::size_t kMaxRecord = 4096;
 
 }  // namespace
 
-ScanJournal::ScanJournal(std::filesystem::path path, int target_lines)
-    : path_(std::move(path)), last_sync_(std::chrono::steady_clock::now()) {
+ScanJournal::ScanJournal(std::filesystem::path path, int target_lines) : path_(std::move(path)) {
   fd_ = ::open(path_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
   if (fd_ < 0) {
     error_ = errno == EEXIST
@@ -34,18 +33,36 @@ ScanJournal::ScanJournal(std::filesystem::path path, int target_lines)
                  : "cannot create the journal " + path_.string() + ": " + std::strerror(errno);
     return;
   }
-  record(std::string(kMagic) + "\nTARGET " + std::to_string(target_lines) + "\n", false);
+  record(std::string(kMagic) + "\nTARGET " + std::to_string(target_lines) + "\n");
   sync();
+  fd_for_sync_ = fd_;
+  syncer_ = std::thread([this] {
+    std::unique_lock lock(sync_mutex_);
+    while (!sync_wake_.wait_for(lock, std::chrono::milliseconds(kSyncPeriodMs),
+                                [this] { return stopping_; }))
+      if (const int fd = fd_for_sync_; fd >= 0) ::fdatasync(fd);
+  });
+}
+
+void ScanJournal::stopSyncing() {
+  {
+    const std::lock_guard lock(sync_mutex_);
+    stopping_ = true;
+  }
+  sync_wake_.notify_all();
+  if (syncer_.joinable()) syncer_.join();
+  fd_for_sync_ = -1;
 }
 
 ScanJournal::~ScanJournal() {
+  stopSyncing();
   if (fd_ >= 0) {
     ::fsync(fd_);
     ::close(fd_);
   }
 }
 
-void ScanJournal::record(const std::string& text, bool is_line) {
+void ScanJournal::record(const std::string& text) {
   if (fd_ < 0) return;
   // One write() per record: after kill -9 the kernel holds every record written, whole or not at
   // all but the last (a torn last record is ignored when recovering).
@@ -60,18 +77,11 @@ void ScanJournal::record(const std::string& text, bool is_line) {
     }
     done += std::size_t(n);
   }
-  lines_since_sync_ += is_line ? 1 : 0;
-  const auto now = std::chrono::steady_clock::now();
-  if (lines_since_sync_ >= kSyncEveryLines ||
-      now - last_sync_ >= std::chrono::milliseconds(kSyncPeriodMs))
-    sync();
 }
 
 void ScanJournal::sync() {
   if (fd_ < 0) return;
   ::fdatasync(fd_);
-  lines_since_sync_ = 0;
-  last_sync_ = std::chrono::steady_clock::now();
 }
 
 void ScanJournal::pose(const PoseReading& reading) {
@@ -91,13 +101,13 @@ void ScanJournal::pose(const PoseReading& reading) {
   else
     text << '-';
   text << ' ' << (reading.time.empty() ? std::string("-") : reading.time) << '\n';
-  record(text.str(), false);
+  record(text.str());
 }
 
 void ScanJournal::angle(const turntable::AngleSample& sample) {
   std::ostringstream text;
   text << "A " << sample.time_us << ' ' << std::lround(sample.angle_deg * 1000.0) << '\n';
-  record(text.str(), false);
+  record(text.str());
 }
 
 void ScanJournal::line(std::int64_t time_us, const std::vector<std::optional<double>>& ranges) {
@@ -112,14 +122,16 @@ void ScanJournal::line(std::int64_t time_us, const std::vector<std::optional<dou
       text += '-';
   }
   text += '\n';
-  record(text, true);
+  record(text);
 }
 
-void ScanJournal::dropped(const std::string& reason) {
+void ScanJournal::dropped(std::int64_t time_us, const std::string& reason) {
   std::string text = "D ";
+  text += std::to_string(time_us);
+  text += ' ';
   text += reason;
   text += '\n';
-  record(text, false);
+  record(text);
 }
 
 void ScanJournal::end(bool complete, const std::string& reason) {
@@ -129,11 +141,12 @@ void ScanJournal::end(bool complete, const std::string& reason) {
     text += reason;
   }
   text += '\n';
-  record(text, false);
+  record(text);
   sync();
 }
 
 void ScanJournal::remove() {
+  stopSyncing();
   if (fd_ >= 0) ::close(fd_);
   fd_ = -1;
   std::error_code ignored;
@@ -232,7 +245,11 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
       assembler->addLine(time_us, std::move(ranges));
       assembler->place();
     } else if (kind == "D") {
+      std::int64_t time_us = 0;
+      if (!(words >> time_us)) corrupt(file, number, "a dropped-line record needs a time");
       ++result.dropped_lines;
+      assembler->addLostTelegram(time_us);
+      assembler->place();
     } else if (kind == "END") {
       std::string state;
       words >> state;
@@ -245,6 +262,7 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
   }
   if (!assembler) throw ScanError(file, "the journal holds no scan (it ends before TARGET)");
   if (!result.complete) assembler->finishIncomplete();
+  assembler->refine();
   result.untagged_lines = assembler->untagged();
   result.scan = std::move(assembler->scan());
   if (result.pose) result.scan.sensor_pose = sensorPoseOf(result.pose->world_from_scanner);

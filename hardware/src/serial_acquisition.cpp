@@ -101,9 +101,6 @@ std::optional<LinkSpeed> linkSpeed(int baud) {
   }
 }
 
-// Lines before the period is estimated from their arrivals are stamped with the time of the read.
-constexpr std::size_t kTelegramsForPeriod = 10;
-
 bool stopRequested(int stop_fd) {
   return stop_fd >= 0 && waitReadable(stop_fd, 0);
 }
@@ -184,11 +181,6 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   // The watchdog's clocks: the last line, the last angle sample, the last change of angle.
   auto last_line = Clock::now(), last_angle = Clock::now(), last_turn = Clock::now();
   std::optional<double> previous_angle;
-  // Line timing: the arrival of the first telegram, how many came, the period they show, the
-  // last stamp given.
-  std::optional<std::int64_t> first_arrival;
-  std::size_t telegrams = 0;
-  std::int64_t line_period_us = 0, last_stamp = 0;
   bool done = false;
   while (!done) {
     pollfd fds[3] = {
@@ -209,32 +201,12 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
                     std::make_move_iterator(more.end()));
     }
     {
-      // Telegrams read together arrived over the time since the last read, one line period
-      // apart (the LMS200 sends at a fixed rate): stamp them so, the last one now, rather than
-      // all with the time of the read.
-      std::size_t in_batch = 0, slot = 0;
-      for (const auto& event : events)
-        in_batch += event.kind == lms200::ParseEvent::Kind::kBadCrc ||
-                    (event.kind == lms200::ParseEvent::Kind::kTelegram &&
-                     event.telegram.command == lms200::kMeasuredValuesReply);
-      const auto stampOf = [&](std::size_t index) {
-        if (!first_arrival) first_arrival = now;
-        ++telegrams;
-        // The device's line period from the arrivals so far: their delays average out.
-        if (telegrams >= kTelegramsForPeriod)
-          line_period_us = (now - *first_arrival) / std::int64_t(telegrams - 1);
-        std::int64_t stamp = now;
-        if (line_period_us > 0) stamp -= std::int64_t(in_batch - 1 - index) * line_period_us;
-        stamp = std::max(stamp, last_stamp + 1);
-        last_stamp = stamp;
-        return stamp;
-      };
       for (const auto& event : events) {
         if (event.kind == lms200::ParseEvent::Kind::kBadCrc) {
           // A corrupt telegram while streaming is a lost line: counted, reported, never silent.
-          stampOf(slot++);
+          assembler.addLostTelegram(now);
           ++result.dropped_lines;
-          if (journal) journal->dropped("bad checksum");
+          if (journal) journal->dropped(now, "bad checksum");
           if (++bad_in_a_row >= options.max_bad_telegrams) {
             error = "the link to the laser scanner is too noisy (" + std::to_string(bad_in_a_row) +
                     " corrupt telegrams in a row)";
@@ -247,17 +219,17 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
           continue;
         bad_in_a_row = 0;
         last_line = Clock::now();
-        const std::int64_t stamp = stampOf(slot++);
         try {
           detail::LineRanges ranges =
               detail::rosiHalf(lms200::decodeMeasuredValues(event.telegram).ranges);
           if (ranges.empty()) throw std::invalid_argument("not 361 values");
           ++result.lines_received;
-          if (journal) journal->line(stamp, ranges);
-          assembler.addLine(stamp, std::move(ranges));
+          if (journal) journal->line(now, ranges);
+          assembler.addLine(now, std::move(ranges));
         } catch (const std::invalid_argument&) {
           ++result.dropped_lines;
-          if (journal) journal->dropped("malformed measured values");
+          assembler.addLostTelegram(now);
+          if (journal) journal->dropped(now, "malformed measured values");
         }
       }
       events.clear();
@@ -306,6 +278,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
   table.stop();
   if (!result.complete) assembler.finishIncomplete();
+  assembler.refine();
   result.untagged_lines = assembler.untagged();
   const ScanMetadata metadata = result.scan.metadata;
   result.scan = std::move(assembler.scan());

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <random>
 #include <thread>
 
 #include "../../../hardware/src/scan_assembler.h"
@@ -71,9 +72,41 @@ TEST(AcquisitionWatchdog, LinesWaitingForAnAngleAreBoundedInMemory) {
   const std::size_t extra = 100;
   for (std::size_t i = 0; i < detail::ScanAssembler::kMaxPendingLines + extra; ++i)
     assembler.addLine(std::int64_t(i) * 26'667, detail::LineRanges(detail::kRosiPoints, 2.0));
-  EXPECT_EQ(assembler.pending(), detail::ScanAssembler::kMaxPendingLines);
-  EXPECT_EQ(assembler.untagged(), extra);
+  // The newest few wait for their stamp (LineClock), the rest for an angle, up to the bound.
+  constexpr std::size_t kWaiting =
+      detail::ScanAssembler::kMaxPendingLines + detail::ScanAssembler::kStampLag;
+  EXPECT_EQ(assembler.pending(), kWaiting);
+  EXPECT_EQ(assembler.untagged(), detail::ScanAssembler::kMaxPendingLines + extra - kWaiting);
   EXPECT_EQ(assembler.place(), 0u);  // no angle yet: nothing placed, nothing invented
+}
+
+TEST(LineTiming, StampsFollowTheLasersRateNotTheHostsDelays) {
+  // The LMS200 measures every 26.667 ms; the host reads in bursts, late by 0 .. 60 ms.
+  constexpr double kPeriodUs = 1e6 / 37.5;
+  constexpr int kLines = 600;
+  std::mt19937 random(7);
+  std::exponential_distribution<double> delay_ms(1.0 / 8.0);
+  detail::LineClock clock;
+  std::int64_t read_at = 0;
+  double late_by_read = 0.0;
+  for (int k = 0; k < kLines; ++k) {
+    const double measured = 1e6 + k * kPeriodUs;
+    const double arrived = measured + std::min(60.0, delay_ms(random)) * 1000.0;
+    // Telegrams that arrive before the next read are read together with it.
+    if (arrived > double(read_at)) read_at = std::int64_t(arrived) + 20'000 * (k % 3 == 0);
+    clock.arrive(read_at);
+    late_by_read += double(read_at) - measured;
+  }
+  double worst = 0.0, sum = 0.0;
+  for (int k = 0; k < kLines; ++k) {
+    const double error = std::abs(double(clock.stampOf(std::size_t(k))) - (1e6 + k * kPeriodUs));
+    worst = std::max(worst, error);
+    sum += error;
+  }
+  EXPECT_NEAR(clock.periodUs(), kPeriodUs, 5.0);
+  EXPECT_GT(late_by_read / kLines, 10'000.0);  // stamped with the read: > 10 ms late on average
+  EXPECT_LT(sum / kLines, 1'000.0);
+  EXPECT_LT(worst, 3'000.0);
 }
 
 TEST(AcquisitionReport, CorruptTelegramsAreCountedAndTheScanIsNeverComplete) {

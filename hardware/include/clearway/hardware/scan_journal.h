@@ -2,16 +2,21 @@
 
 // The acquisition journal (docs/JOURNAL.md): every measured-values line and every turntable angle
 // is appended to SCAN.journal as it arrives, so a crash, kill -9 or power cut keeps what was
-// received. Each record is one text line written with a single write(); the file is fsynced
-// every kSyncEveryLines lines or kSyncPeriodMs, whichever comes first. A clean finish turns the
+// received. Each record is one text line written with a single write(); a thread of the journal's
+// own fdatasyncs the file every kSyncPeriodMs, so a slow disk never holds up reading the devices
+// (a late read would make late line stamps). A clean finish turns the
 // journal into the PCD and removes it; `clearway-cli acquire --recover` turns a journal left by a
 // crash into a partial scan through the same assembly as the live acquisition.
 
+#include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "clearway/hardware/pose_source.h"
@@ -22,8 +27,7 @@ namespace clearway::hardware {
 
 class ScanJournal {
  public:
-  static constexpr int kSyncEveryLines = 32;  // about 1 s of lines at the LMS200's 37.5 lines/s
-  static constexpr int kSyncPeriodMs = 500;
+  static constexpr int kSyncPeriodMs = 500;  // a power cut costs at most this much
 
   // Creates `path`; refuses one that exists (it may hold a scan not yet recovered). error() says
   // why the journal cannot be written; the acquisition then runs without one and says so.
@@ -39,19 +43,24 @@ class ScanJournal {
   void angle(const turntable::AngleSample& sample);
   // `ranges`: the RoSi's 180 ranges [m], none for no echo.
   void line(std::int64_t time_us, const std::vector<std::optional<double>>& ranges);
-  void dropped(const std::string& reason);
+  // A telegram lost to corruption, read at `time_us`.
+  void dropped(std::int64_t time_us, const std::string& reason);
   void end(bool complete, const std::string& reason);
   void sync();
   // After the scan was saved: the journal is no longer needed.
   void remove();
 
  private:
-  void record(const std::string& text, bool is_line);
+  void record(const std::string& text);
   std::filesystem::path path_;
   std::string error_;
   int fd_ = -1;
-  int lines_since_sync_ = 0;
-  std::chrono::steady_clock::time_point last_sync_;
+  std::atomic<int> fd_for_sync_{-1};
+  std::mutex sync_mutex_;
+  std::condition_variable sync_wake_;
+  bool stopping_ = false;
+  std::thread syncer_;
+  void stopSyncing();
 };
 
 // Replays a journal into the scan it holds (incomplete unless the journal says it ended
