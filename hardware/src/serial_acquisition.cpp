@@ -194,8 +194,12 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
       if (!previous_angle || sample.angle_deg != *previous_angle) last_turn = last_angle;
       previous_angle = sample.angle_deg;
     }
+    std::int64_t arrival = now;  // no later than the telegrams' true arrival
     if (fds[0].revents & POLLIN) {
       const std::string bytes = lms.readAvailable();
+      // Taken after the read: a telegram may arrive between `now` and the read, but never after
+      // the read, and the line clock relies on stamps never being early.
+      arrival = nowMicros();
       auto more = parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
       events.insert(events.end(), std::make_move_iterator(more.begin()),
                     std::make_move_iterator(more.end()));
@@ -204,9 +208,9 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
       for (const auto& event : events) {
         if (event.kind == lms200::ParseEvent::Kind::kBadCrc) {
           // A corrupt telegram while streaming is a lost line: counted, reported, never silent.
-          assembler.addLostTelegram(now);
+          assembler.addLostTelegram(arrival);
           ++result.dropped_lines;
-          if (journal) journal->dropped(now, "bad checksum");
+          if (journal) journal->dropped(arrival, "bad checksum");
           if (++bad_in_a_row >= options.max_bad_telegrams) {
             error = "the link to the laser scanner is too noisy (" + std::to_string(bad_in_a_row) +
                     " corrupt telegrams in a row)";
@@ -224,12 +228,12 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
               detail::rosiHalf(lms200::decodeMeasuredValues(event.telegram).ranges);
           if (ranges.empty()) throw std::invalid_argument("not 361 values");
           ++result.lines_received;
-          if (journal) journal->line(now, ranges);
-          assembler.addLine(now, std::move(ranges));
+          if (journal) journal->line(arrival, ranges);
+          assembler.addLine(arrival, std::move(ranges));
         } catch (const std::invalid_argument&) {
           ++result.dropped_lines;
-          assembler.addLostTelegram(now);
-          if (journal) journal->dropped(now, "malformed measured values");
+          assembler.addLostTelegram(arrival);
+          if (journal) journal->dropped(arrival, "malformed measured values");
         }
       }
       events.clear();

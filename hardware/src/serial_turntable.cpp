@@ -1,5 +1,6 @@
 #include "clearway/hardware/serial_turntable.h"
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 
@@ -66,6 +67,9 @@ std::vector<turntable::AngleSample> SerialTurntable::readSamples(std::int64_t no
   impl_->backlog.clear();
   for (std::string& line : impl_->lines.feed(impl_->serial.readAvailable()))
     lines.push_back(std::move(line));
+  // The host's time after the read: a sample can arrive between `now_us` and the read, and the
+  // clock mapping below relies on no sample looking earlier than it arrived.
+  now_us = std::max(now_us, detail::nowMicros());
   // Each sample is stamped with the table's own time, mapped onto the host's clock: stamping
   // with the time of the read would add the host's scheduling delay (milliseconds on a busy
   // machine, degrees of angle at speed) to every line's angle.
