@@ -227,7 +227,11 @@ TEST(CliAcquire, KillNineAtRandomMomentsLosesNoLineReceived) {
     std::uint64_t sent = 0, surely_read = 0;
     if (quiet) {
       emulator.stallLaser(true);
-      sent = emulator.linesSent();
+      // Lines already due or queued when the laser paused still go out: wait until none do.
+      do {
+        sent = emulator.linesSent();
+        std::this_thread::sleep_for(std::chrono::milliseconds(150));
+      } while (emulator.linesSent() != sent);
       ASSERT_TRUE(waitFor([&] { return journaledLines(journal) >= sent; })) << sent;
       acquire.signal(SIGKILL);
       surely_read = sent;
