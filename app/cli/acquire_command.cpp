@@ -1,45 +1,203 @@
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <csignal>
 #include <iostream>
+#include <stdexcept>
 
 #include "arguments.h"
+#include "clearway/hardware/acquisition_files.h"
+#include "clearway/hardware/pose_source.h"
+#include "clearway/hardware/scan_journal.h"
 #include "clearway/hardware/serial_acquisition.h"
-#include "clearway/io/scan_io.h"
+#include "clearway/io/scan_error.h"
 #include "commands.h"
 
 namespace clearway::cli {
+namespace {
+
+constexpr const char* kUsage =
+    "clearway-cli acquire --lms PORT --turntable PORT [--arm PORT] [--mount POSE] [--lines N] "
+    "-o SCAN.pcd, or acquire --recover SCAN.journal -o SCAN.pcd";
+
+// SIGINT/SIGTERM during a scan: the handler only records the signal and writes a byte into a
+// pipe the acquisition polls (both async-signal-safe); the acquisition then stops the devices and
+// the partial scan is saved outside the handler.
+int stop_pipe[2] = {-1, -1};
+volatile std::sig_atomic_t stop_signal = 0;
+
+void onStopSignal(int signal_number) {
+  stop_signal = signal_number;
+  const char byte = 1;
+  [[maybe_unused]] const ssize_t ignored = ::write(stop_pipe[1], &byte, 1);
+}
+
+// Installs the handlers for the life of the object and restores the previous ones after.
+class StopSignals {
+ public:
+  StopSignals() {
+    if (::pipe2(stop_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
+      throw std::runtime_error("cannot create a pipe for the stop signals");
+    struct sigaction action {};
+    action.sa_handler = onStopSignal;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, &previous_int_);
+    ::sigaction(SIGTERM, &action, &previous_term_);
+  }
+  ~StopSignals() {
+    ::sigaction(SIGINT, &previous_int_, nullptr);
+    ::sigaction(SIGTERM, &previous_term_, nullptr);
+    ::close(stop_pipe[0]);
+    ::close(stop_pipe[1]);
+    stop_pipe[0] = stop_pipe[1] = -1;
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  int descriptor() const { return stop_pipe[0]; }
+
+ private:
+  struct sigaction previous_int_ {};
+  struct sigaction previous_term_ {};
+};
+
+hardware::RigidPose poseOption(const Arguments& arguments, const std::string& name,
+                               const hardware::RigidPose& fallback) {
+  const auto text = arguments.option(name);
+  if (!text) return fallback;
+  std::string error;
+  const auto pose = hardware::parsePose(*text, error);
+  if (!pose) throw UsageError("--" + name + ": " + error);
+  return *pose;
+}
+
+std::string lineCounts(const hardware::Acquisition& acquisition) {
+  std::string text = std::to_string(acquisition.scan.lines.size()) + " lines in the scan, " +
+                     std::to_string(acquisition.lines_received) + " received";
+  if (acquisition.dropped_lines > 0)
+    text += ", " + std::to_string(acquisition.dropped_lines) + " dropped (corrupt telegrams)";
+  if (acquisition.untagged_lines > 0)
+    text += ", " + std::to_string(acquisition.untagged_lines) + " without a turntable angle";
+  return text;
+}
+
+// Saves what the acquisition holds; the journal is removed only once the scan is safely on disk.
+int finish(const hardware::Acquisition& acquisition, const std::filesystem::path& output,
+           const std::filesystem::path& journal, bool partial_beside) {
+  if (acquisition.complete) {
+    hardware::saveAcquisition(acquisition, output);
+    std::filesystem::remove(journal);
+    std::cout << "acquired " << acquisition.scan.lines.size()
+              << " lines x 180 points: " << output.string() << "\n";
+    return 0;
+  }
+  std::cerr << "clearway-cli acquire: " << acquisition.error << " (" << lineCounts(acquisition)
+            << ")\n";
+  if (!acquisition.journal_error.empty())
+    std::cerr << "clearway-cli acquire: " << acquisition.journal_error << "\n";
+  if (acquisition.scan.empty()) {
+    std::filesystem::remove(journal);
+    return 1;
+  }
+  // Nothing the operator acquired is lost: the lines that arrived are kept, marked partial.
+  const std::filesystem::path partial = partial_beside ? hardware::partialPathFor(output) : output;
+  hardware::saveAcquisition(acquisition, partial);
+  std::filesystem::remove(journal);
+  std::cerr << "clearway-cli acquire: the " << acquisition.scan.lines.size()
+            << " lines that arrived are in " << partial.string() << " (incomplete)\n";
+  return 1;
+}
+
+int recover(const std::filesystem::path& journal, const std::filesystem::path& output) {
+  const hardware::Acquisition acquisition = hardware::recoverJournal(journal);
+  if (acquisition.scan.empty())
+    throw ScanError(journal, "the journal holds no line that could be placed (" +
+                                 lineCounts(acquisition) + ")");
+  hardware::saveAcquisition(acquisition, output);
+  std::filesystem::remove(journal);
+  std::cout << "recovered " << lineCounts(acquisition) << " from " << journal.string() << ": "
+            << output.string() << (acquisition.complete ? "\n" : " (incomplete)\n");
+  return acquisition.complete ? 0 : 1;
+}
+
+}  // namespace
 
 int runAcquire(const std::vector<std::string>& words) {
-  const Arguments arguments(
-      words, {}, {"lms", "turntable", "lines", "speed", "timeout", "baud", "o", "output"});
-  arguments.expectPositional(
-      0, "clearway-cli acquire --lms PORT --turntable PORT [--lines N] -o SCAN.pcd");
+  const Arguments arguments(words, {},
+                            {"lms", "turntable", "arm", "mount", "lines", "speed", "timeout",
+                             "baud", "o", "output", "recover"});
+  arguments.expectPositional(0, kUsage);
+  const auto output_option =
+      arguments.option("o") ? arguments.option("o") : arguments.option("output");
+  if (!output_option) throw UsageError(std::string("-o SCAN.pcd is required: ") + kUsage);
+  const std::filesystem::path output = *output_option;
+  // Checked before anything starts, so a typo never costs a scan.
+  if (const std::string problem = hardware::checkOutputPath(output); !problem.empty())
+    throw UsageError(problem);
+  if (const auto journal = arguments.option("recover")) return recover(*journal, output);
+
   const auto lms = arguments.option("lms"), table = arguments.option("turntable");
-  const auto output = arguments.option("o") ? arguments.option("o") : arguments.option("output");
-  if (!lms || !table || !output)
-    throw UsageError("--lms PORT, --turntable PORT and -o SCAN.pcd are required");
+  if (!lms || !table) throw UsageError(std::string("--lms PORT and --turntable PORT: ") + kUsage);
   hardware::AcquisitionOptions options;
   options.lines = int(arguments.integer("lines", 0, 0, 100000));
   options.turntable_speed_deg_s =
       arguments.number("speed", options.turntable_speed_deg_s, 0.1, 360.0);
   options.answer_timeout_ms =
       int(arguments.integer("timeout", options.answer_timeout_ms, 50, 60000));
+  options.baud = int(arguments.integer("baud", options.baud, 1, 10'000'000));
+  if (options.baud != 9600 && options.baud != 19200 && options.baud != 38400 &&
+      options.baud != 500000)
+    throw UsageError("--baud " + std::to_string(options.baud) +
+                     ": the LMS200 runs at 9600, 19200, 38400 or 500000 baud");
 
-  const hardware::Acquisition acquisition = hardware::acquireRosiScan(*lms, *table, options);
-  if (acquisition.complete) {
-    saveRosiPcd(acquisition.scan, *output);
-    std::cout << "acquired " << acquisition.scan.lines.size() << " lines x 180 points: " << *output
-              << "\n";
-    return 0;
+  // Where the scanner is: the arm's pose composed with the RoSi's mounting on the tool, or,
+  // without an arm, a fixed mounting on the robot.
+  if (const auto arm = arguments.option("arm")) {
+    hardware::ArmPoseSource source(
+        *arm, poseOption(arguments, "mount", hardware::defaultToolFromScanner()));
+    const hardware::PoseReading reading = source.read(options.answer_timeout_ms);
+    if (!reading.ok()) {
+      std::cerr << "clearway-cli acquire: " << reading.error << " (no scan started)\n";
+      return 1;
+    }
+    options.pose = reading;
+  } else if (arguments.option("mount")) {
+    options.pose = hardware::FixedMounting(poseOption(arguments, "mount", {})).read(0);
   }
-  std::cerr << "clearway-cli acquire: " << acquisition.error << "\n";
-  if (!acquisition.scan.empty()) {
-    // Nothing the operator acquired is lost: the lines that arrived are kept, marked partial.
-    std::filesystem::path partial = *output;
-    partial.replace_extension(".partial.pcd");
-    saveRosiPcd(acquisition.scan, partial);
-    std::cerr << "clearway-cli acquire: the " << acquisition.scan.lines.size()
-              << " lines that arrived are in " << partial.string() << "\n";
+
+  const std::filesystem::path journal = hardware::journalPathFor(output);
+  if (std::filesystem::exists(journal)) {
+    // Left by an acquisition that crashed: its lines are only there. Never overwrite them.
+    std::cerr << "clearway-cli acquire: " << journal.string()
+              << " exists: it holds the lines of an acquisition that did not finish. Recover "
+                 "them with: clearway-cli acquire --recover "
+              << journal.string() << " -o SCAN.pcd (or remove it). No scan started.\n";
+    return 1;
   }
-  return 1;
+  options.journal = journal;
+  const StopSignals signals;
+  options.stop_fd = signals.descriptor();
+  hardware::Acquisition acquisition = hardware::acquireRosiScan(*lms, *table, options);
+  if (acquisition.stopped)
+    acquisition.error =
+        std::string("interrupted by ") + (stop_signal == SIGTERM ? "SIGTERM" : "SIGINT") +
+        ": the devices were stopped after " + std::to_string(acquisition.lines_received) + " lines";
+  if (!std::filesystem::exists(journal) && acquisition.lines_received == 0 &&
+      !acquisition.error.empty()) {
+    // Refused before streaming (busy port, a journal left by a crash, no device): nothing to save.
+    std::cerr << "clearway-cli acquire: " << acquisition.error << "\n";
+    return 1;
+  }
+  try {
+    return finish(acquisition, output, journal, true);
+  } catch (const ScanError& error) {
+    // A full disk, say: the journal still holds every line received.
+    std::cerr << "clearway-cli acquire: " << error.what() << "\n";
+    if (std::filesystem::exists(journal))
+      std::cerr << "clearway-cli acquire: the lines are kept in " << journal.string()
+                << ": recover them with clearway-cli acquire --recover " << journal.string()
+                << " -o SCAN.pcd\n";
+    return 1;
+  }
 }
 
 }  // namespace clearway::cli

@@ -9,14 +9,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
-#include <deque>
 #include <limits>
 #include <numbers>
 #include <optional>
 
 #include "clearway/hardware/lms200_protocol.h"
+#include "clearway/hardware/scan_journal.h"
 #include "clearway/hardware/serial_turntable.h"
 #include "clearway/hardware/turntable_protocol.h"
+#include "scan_assembler.h"
 #include "serial_port.h"
 
 namespace clearway::hardware {
@@ -26,8 +27,6 @@ using Clock = std::chrono::steady_clock;
 using detail::nowMicros;
 using detail::SerialPort;
 using detail::waitReadable;
-constexpr int kRosiPoints = 180;  // the half line alpha 0 .. 89.5 deg: LMS values 180 .. 359
-constexpr double kDeg = std::numbers::pi / 180.0;
 
 // Something answers on the laser's port, but never with an LMS200 telegram. Quote the first line
 // when it is text: the turntable's "ERR ..." there means the two cables are swapped.
@@ -45,7 +44,8 @@ std::string wrongDeviceReason(const std::string& path, const std::string& bytes)
 // Sends a request and waits for the scanner's ACK and its reply telegram with `reply_command`.
 std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
                                         const lms200::Bytes& telegram, std::uint8_t reply_command,
-                                        int timeout_ms, std::string& error) {
+                                        int timeout_ms, std::string& error,
+                                        std::vector<lms200::ParseEvent>* after_reply = nullptr) {
   if (!lms.send(telegram)) {
     error = "cannot write to " + lms.path();
     return std::nullopt;
@@ -57,16 +57,22 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
     if (!waitReadable(lms.fd(), 20)) continue;
     const std::string bytes = lms.readAvailable();
     if (unrecognised.size() < 256) unrecognised += bytes;
-    for (const auto& event :
-         parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) {
+    std::vector<lms200::ParseEvent> events =
+        parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+    for (std::size_t i = 0; i < events.size(); ++i) {
+      const lms200::ParseEvent& event = events[i];
       any_telegram = any_telegram || event.kind != lms200::ParseEvent::Kind::kSkipped;
       if (event.kind == lms200::ParseEvent::Kind::kRefused) {
         error = "the laser scanner refused a command (NAK)";
         return std::nullopt;
       }
       if (event.kind == lms200::ParseEvent::Kind::kTelegram &&
-          event.telegram.command == reply_command)
+          event.telegram.command == reply_command) {
+        // What came in the same read after the reply (the first measured values, when the
+        // reply starts the continuous output) belongs to the caller.
+        if (after_reply) after_reply->assign(events.begin() + std::ptrdiff_t(i) + 1, events.end());
         return event.telegram;
+      }
     }
   }
   error = any_telegram || unrecognised.empty() ? "the laser scanner does not answer on " +
@@ -95,30 +101,8 @@ std::optional<LinkSpeed> linkSpeed(int baud) {
   }
 }
 
-struct PendingLine {
-  std::int64_t time_us;
-  std::vector<std::optional<double>> ranges;
-};
-
-void appendLine(Scan& scan, double beta, const std::vector<std::optional<double>>& ranges) {
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  scan.lines.push_back({scan.size(), kRosiPoints, beta});
-  for (int k = 0; k < kRosiPoints; ++k) {
-    const double alpha = k * 0.5 * kDeg;
-    const auto& range = ranges[std::size_t(180 + k)];
-    scan.alpha.push_back(float(alpha));
-    scan.intensity.push_back(0.0F);
-    if (!range) {
-      scan.points.push_back({nan, nan, nan});
-      scan.status.push_back(PointStatus::kNoReturn);
-      continue;
-    }
-    const double d = *range;
-    scan.points.push_back({float(std::cos(beta) * std::cos(alpha) * d),
-                           float(std::sin(beta) * std::cos(alpha) * d),
-                           float(std::sin(alpha) * d)});
-    scan.status.push_back(PointStatus::kValid);
-  }
+bool stopRequested(int stop_fd) {
+  return stop_fd >= 0 && waitReadable(stop_fd, 0);
 }
 
 }  // namespace
@@ -132,8 +116,15 @@ Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turn
 Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
                             const AcquisitionOptions& options, const ProgressCallback& progress) {
   Acquisition result;
+  result.pose = options.pose;
   result.scan.metadata.format = "rosi acquisition";
   result.scan.metadata.frame = "RoSi scanner frame: metres, z = turntable axis";
+  const std::optional<LinkSpeed> link = linkSpeed(options.baud);
+  if (!link) {
+    result.error = "the LMS200 cannot run at " + std::to_string(options.baud) +
+                   " baud (9600, 19200, 38400 or 500000)";
+    return result;
+  }
   SerialPort lms(lms_port);
   if (!lms.error().empty() || !table.openError().empty()) {
     result.error = !lms.error().empty() ? lms.error() : table.openError();
@@ -141,48 +132,85 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   }
   lms200::Parser parser;
   const int timeout = options.answer_timeout_ms;
-  const std::optional<LinkSpeed> link = linkSpeed(options.baud);
-  if (!link) {
-    result.error = "the LMS200 cannot run at " + std::to_string(options.baud) +
-                   " baud (9600, 19200, 38400 or 500000)";
-    return result;
-  }
   std::string& error = result.error;
+  const auto interrupted = [&] {
+    if (!stopRequested(options.stop_fd)) return false;
+    result.stopped = true;
+    error = "stopped by a signal after " + std::to_string(result.lines_received) + " lines";
+    return true;
+  };
   // The laser: installation mode, its link speed, the 180 deg / 0.5 deg variant.
   if (!request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout, error) ||
       !request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error) ||
       !lms.setSpeed(link->speed) ||
-      !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error))
+      !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) || interrupted())
     return result;
   // The table: home, speed, turn.
   error = table.home(timeout);
   if (error.empty()) error = table.setSpeed(options.turntable_speed_deg_s, timeout);
   if (error.empty()) error = table.start(timeout);
-  if (!error.empty()) return result;
-  // And the laser's continuous output.
-  if (!request(lms, parser, lms200::changeOperatingMode(lms200::kModeContinuousOutput), 0xA0,
-               timeout, error)) {
+  if (error.empty() && interrupted()) {
     table.stop();
     return result;
   }
+  if (!error.empty()) return result;
 
-  turntable::AngleTrack angles;
-  std::deque<PendingLine> pending;
-  std::optional<double> first_angle;
+  std::optional<ScanJournal> journal;
+  if (!options.journal.empty()) {
+    journal.emplace(options.journal, options.lines);
+    if (!journal->error().empty()) {
+      // Refused before the laser streams: nothing is lost yet, and nothing unrecovered is
+      // overwritten.
+      error = journal->error();
+      table.stop();
+      return result;
+    }
+    if (options.pose) journal->pose(*options.pose);
+  }
+  // And the laser's continuous output.
+  std::vector<lms200::ParseEvent> events;  // the first lines may come with the reply
+  if (!request(lms, parser, lms200::changeOperatingMode(lms200::kModeContinuousOutput), 0xA0,
+               timeout, error, &events)) {
+    table.stop();
+    if (journal) journal->end(false, error);
+    return result;
+  }
+
+  detail::ScanAssembler assembler(options.lines);
   int bad_in_a_row = 0;
-  auto last_heard = Clock::now();
+  // The watchdog's clocks: the last line, the last angle sample, the last change of angle.
+  auto last_line = Clock::now(), last_angle = Clock::now(), last_turn = Clock::now();
+  std::optional<double> previous_angle;
   bool done = false;
   while (!done) {
-    pollfd fds[2] = {{lms.fd(), POLLIN, 0}, {table.descriptor(), POLLIN, 0}};
-    ::poll(fds, 2, 20);
+    pollfd fds[3] = {
+        {lms.fd(), POLLIN, 0}, {table.descriptor(), POLLIN, 0}, {options.stop_fd, POLLIN, 0}};
+    ::poll(fds, 3, 20);
     const std::int64_t now = nowMicros();
-    for (const turntable::AngleSample& sample : table.readSamples(now))
-      angles.add(sample);
+    for (const turntable::AngleSample& sample : table.readSamples(now)) {
+      if (journal) journal->angle(sample);
+      assembler.addAngle(sample);
+      last_angle = Clock::now();
+      if (!previous_angle || sample.angle_deg != *previous_angle) last_turn = last_angle;
+      previous_angle = sample.angle_deg;
+    }
+    std::int64_t arrival = now;  // no later than the telegrams' true arrival
     if (fds[0].revents & POLLIN) {
       const std::string bytes = lms.readAvailable();
-      for (const auto& event :
-           parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size())) {
+      // Taken after the read: a telegram may arrive between `now` and the read, but never after
+      // the read, and the line clock relies on stamps never being early.
+      arrival = nowMicros();
+      auto more = parser.feed(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
+      events.insert(events.end(), std::make_move_iterator(more.begin()),
+                    std::make_move_iterator(more.end()));
+    }
+    {
+      for (const auto& event : events) {
         if (event.kind == lms200::ParseEvent::Kind::kBadCrc) {
+          // A corrupt telegram while streaming is a lost line: counted, reported, never silent.
+          assembler.addLostTelegram(arrival);
+          ++result.dropped_lines;
+          if (journal) journal->dropped(arrival, "bad checksum");
           if (++bad_in_a_row >= options.max_bad_telegrams) {
             error = "the link to the laser scanner is too noisy (" + std::to_string(bad_in_a_row) +
                     " corrupt telegrams in a row)";
@@ -194,63 +222,82 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
             event.telegram.command != lms200::kMeasuredValuesReply)
           continue;
         bad_in_a_row = 0;
-        last_heard = Clock::now();
+        last_line = Clock::now();
         try {
-          auto values = lms200::decodeMeasuredValues(event.telegram);
-          if (values.ranges.size() == 361) pending.push_back({now, std::move(values.ranges)});
+          detail::LineRanges ranges =
+              detail::rosiHalf(lms200::decodeMeasuredValues(event.telegram).ranges);
+          if (ranges.empty()) throw std::invalid_argument("not 361 values");
+          ++result.lines_received;
+          if (journal) journal->line(arrival, ranges);
+          assembler.addLine(arrival, std::move(ranges));
         } catch (const std::invalid_argument&) {
-          // a malformed line is dropped; the next one follows
+          ++result.dropped_lines;
+          assembler.addLostTelegram(arrival);
+          if (journal) journal->dropped(arrival, "malformed measured values");
         }
       }
+      events.clear();
     }
-    // Lines whose arrival lies within the sampled angles get their angle.
-    while (!pending.empty()) {
-      const auto angle = angles.angleAt(pending.front().time_us);
-      if (!angle) {
-        // A line from before the table's first sample can never be tagged: drop it now rather
-        // than let it hold up the lines behind it. One after the last sample waits for the next.
-        if (angles.before(pending.front().time_us) ||
-            (angles.size() > 0 && pending.front().time_us < nowMicros() - 2'000'000)) {
-          pending.pop_front();
-          continue;
-        }
-        break;
-      }
-      if (!first_angle) first_angle = *angle;
-      appendLine(result.scan, (*angle - *first_angle) * kDeg, pending.front().ranges);
-      pending.pop_front();
-      if (options.lines_arrived &&
-          result.scan.lines.size() % std::size_t(std::max(1, options.lines_arrived_every)) == 0)
-        options.lines_arrived(result.scan);
-      const double turned = *angle - *first_angle;
-      const bool enough_lines = options.lines > 0 && int(result.scan.lines.size()) >= options.lines;
-      if (enough_lines || (options.lines == 0 && turned >= 360.0)) {
-        result.complete = true;
-        done = true;
-        break;
-      }
+    const std::size_t every = std::size_t(std::max(1, options.lines_arrived_every));
+    const std::size_t before = assembler.scan().lines.size();
+    assembler.place();
+    const std::size_t placed = assembler.scan().lines.size();
+    if (options.lines_arrived && placed / every != before / every)
+      options.lines_arrived(assembler.scan());
+    if (assembler.complete()) {
+      result.complete = true;
+      break;
     }
-    if (!done && Clock::now() - last_heard > std::chrono::milliseconds(timeout)) {
-      error = "the laser scanner stopped answering after " +
-              std::to_string(result.scan.lines.size()) + " lines";
-      done = true;
+    const auto silent = [&](Clock::time_point since) {
+      return Clock::now() - since > std::chrono::milliseconds(timeout);
+    };
+    const std::string so_far = " after " + std::to_string(result.lines_received) + " lines";
+    if (done) break;
+    if (interrupted()) break;
+    if (silent(last_line)) {
+      error = "the laser scanner stopped answering" + so_far;
+      break;
     }
-    if (!done && progress) {
-      const double fraction = options.lines > 0
-                                  ? double(result.scan.lines.size()) / options.lines
-                                  : (result.scan.lines.empty()
-                                         ? 0.0
-                                         : result.scan.lines.back().beta / (2 * std::numbers::pi));
+    if (silent(last_angle)) {
+      error = assembler.angleSamples() == 0
+                  ? "the turntable sends no angles (it answered, but never reported turning)"
+                  : "the turntable stopped sending angles" + so_far;
+      break;
+    }
+    if (silent(last_turn)) {
+      error = "the turntable does not turn (its angle stays at " +
+              std::to_string(previous_angle.value_or(0.0)) + " deg)" + so_far;
+      break;
+    }
+    if (progress) {
+      const double fraction =
+          options.lines > 0 ? double(placed) / options.lines : assembler.turnedDeg() / 360.0;
       if (!progress(fraction)) {
-        error = "cancelled by the operator after " + std::to_string(result.scan.lines.size()) +
-                " lines";
-        done = true;
+        error = "cancelled by the operator" + so_far;
+        break;
       }
     }
   }
   // Stop the devices whatever happened; they may not answer any more.
   lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
   table.stop();
+  if (!result.complete) assembler.finishIncomplete();
+  assembler.refine();
+  result.untagged_lines = assembler.untagged();
+  const ScanMetadata metadata = result.scan.metadata;
+  result.scan = std::move(assembler.scan());
+  result.scan.metadata = metadata;
+  if (options.pose) result.scan.sensor_pose = sensorPoseOf(options.pose->world_from_scanner);
+  if (result.complete && result.dropped_lines > 0) {
+    result.complete = false;
+    error = std::to_string(result.dropped_lines) +
+            " lines were dropped (corrupt telegrams): the scan has gaps";
+  }
+  if (journal) {
+    result.journal_error = journal->error();
+    journal->end(result.complete, error);
+    if (result.lines_received == 0) journal->remove();  // nothing arrived: nothing to keep
+  }
   return result;
 }
 

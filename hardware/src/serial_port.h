@@ -5,6 +5,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <sys/file.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -36,6 +37,16 @@ class SerialPort {
       error_ = "cannot open " + path + ": " + std::strerror(errno);
       return;
     }
+    // One program per device: a second acquisition on the same port would steal half the
+    // telegrams of the first. flock is released by the kernel when the process dies, even by
+    // kill -9, so a crash never leaves the port locked.
+    if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      error_ = path + " is in use by another program (another clearway-cli acquire, or the " +
+               "console's scanner?): close it first";
+      ::close(fd_);
+      fd_ = -1;
+      return;
+    }
     termios settings{};
     if (::tcgetattr(fd_, &settings) != 0) {
       error_ = path + " is not a serial port";
@@ -44,6 +55,9 @@ class SerialPort {
     ::cfmakeraw(&settings);
     ::cfsetspeed(&settings, B9600);  // the LMS200's speed after power-up; a pty ignores it
     ::tcsetattr(fd_, TCSANOW, &settings);
+    // Whatever a previous, killed run left unread (a half line cut by a full buffer, a stream
+    // of measured values) would garble the first answers.
+    ::tcflush(fd_, TCIFLUSH);
   }
   ~SerialPort() {
     if (fd_ >= 0) ::close(fd_);

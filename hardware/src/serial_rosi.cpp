@@ -5,6 +5,21 @@
 #include <QPointer>
 
 namespace clearway::hardware {
+namespace {
+
+QString summaryOf(const PoseReading& pose) {
+  const auto& t = pose.world_from_scanner.translation;
+  QString text = pose.arm_tilt_deg ? SerialRosi::tr("arm tilt %1°, roll %2°")
+                                         .arg(*pose.arm_tilt_deg, 0, 'f', 1)
+                                         .arg(pose.arm_roll_deg.value_or(0.0), 0, 'f', 1)
+                                   : SerialRosi::tr("fixed mounting");
+  return text + SerialRosi::tr("; scanner at (%1, %2, %3) m")
+                    .arg(t.x(), 0, 'f', 2)
+                    .arg(t.y(), 0, 'f', 2)
+                    .arg(t.z(), 0, 'f', 2);
+}
+
+}  // namespace
 
 SerialRosi::SerialRosi(QString lms_port, QString turntable_port, int baud, QObject* parent)
     : ScannerDevice(parent),
@@ -48,6 +63,7 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
   AcquisitionOptions options;
   options.lines = request.lines;
   options.baud = baud_;
+  options.journal = request.journal;
   if (request.turntable_speed_deg_s > 0)
     options.turntable_speed_deg_s = request.turntable_speed_deg_s;
   const int expected = request.lines > 0 ? request.lines : 300;
@@ -62,8 +78,30 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
         },
         Qt::QueuedConnection);
   };
-  worker_ = std::thread([self, cancel, options, expected, lms = lms_port_.toStdString(),
-                         table = turntable_port_.toStdString()] {
+  last_pose_.reset();
+  worker_ = std::thread([self, cancel, options, expected, pose_source = pose_source_,
+                         lms = lms_port_.toStdString(),
+                         table = turntable_port_.toStdString()]() mutable {
+    if (pose_source) {
+      // Where the scanner is, before it starts: a scan without its pose could put a wall on the
+      // floor, so no pose, no scan.
+      const PoseReading pose = pose_source->read(options.answer_timeout_ms);
+      QMetaObject::invokeMethod(
+          self,
+          [self, pose] {
+            if (!self) return;
+            if (!pose.ok()) {
+              if (self->state() == State::kScanning) self->setState(State::kIdle);
+              emit self->failed(tr("No scan started: %1").arg(QString::fromStdString(pose.error)));
+              return;
+            }
+            self->last_pose_ = pose;
+            emit self->poseReceived(summaryOf(pose));
+          },
+          Qt::QueuedConnection);
+      if (!pose.ok()) return;
+      options.pose = pose;
+    }
     const Acquisition acquisition = acquireRosiScan(lms, table, options, [&](double fraction) {
       QMetaObject::invokeMethod(
           self,
@@ -78,7 +116,8 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
         self,
         [self, scan, acquisition] {
           if (!self) return;
-          self->setState(State::kIdle);
+          // Disconnected meanwhile: the device stays disconnected.
+          if (self->state() == State::kScanning) self->setState(State::kIdle);
           if (!acquisition.complete) emit self->failed(QString::fromStdString(acquisition.error));
           if (!scan->empty() || acquisition.complete)
             emit self->scanFinished(scan, acquisition.complete);

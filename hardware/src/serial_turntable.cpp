@@ -1,6 +1,8 @@
 #include "clearway/hardware/serial_turntable.h"
 
+#include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include "serial_port.h"
 
@@ -11,6 +13,10 @@ struct SerialTurntable::Impl {
   detail::SerialPort serial;
   turntable::LineSplitter lines;
   std::vector<std::string> backlog;  // lines read while waiting for an answer
+  // The table's clock mapped onto the host's: host = table + offset. The smallest difference
+  // seen is the one least delayed on its way (a sample can arrive late, never early).
+  std::optional<std::int64_t> offset_us;
+  std::int64_t last_table_us = 0;
 };
 
 SerialTurntable::SerialTurntable(const std::string& port) : impl_(std::make_unique<Impl>(port)) {}
@@ -47,7 +53,10 @@ std::string SerialTurntable::setSpeed(double degrees_per_second, int timeout_ms)
   return command(turntable::speedCommand(degrees_per_second), timeout_ms);
 }
 std::string SerialTurntable::start(int timeout_ms) {
-  return command(turntable::startCommand(), timeout_ms);
+  std::string error = command(turntable::startCommand(), timeout_ms);
+  // Angles read while waiting for the answers were sent before the table started: stale.
+  impl_->backlog.clear();
+  return error;
 }
 void SerialTurntable::stop() {
   impl_->serial.send(turntable::stopCommand());
@@ -58,15 +67,25 @@ std::vector<turntable::AngleSample> SerialTurntable::readSamples(std::int64_t no
   impl_->backlog.clear();
   for (std::string& line : impl_->lines.feed(impl_->serial.readAvailable()))
     lines.push_back(std::move(line));
-  // Only the newest angle describes the table at `now_us` (the host's clock); older ones in the
-  // same read would be stamped too late.
-  std::optional<double> newest;
-  for (const std::string& line : lines)
-    if (const auto reply = turntable::parseReply(line);
-        reply && std::holds_alternative<turntable::AngleSample>(*reply))
-      newest = std::get<turntable::AngleSample>(*reply).angle_deg;
-  if (!newest) return {};
-  return {{now_us, *newest}};
+  // The host's time after the read: a sample can arrive between `now_us` and the read, and the
+  // clock mapping below relies on no sample looking earlier than it arrived.
+  now_us = std::max(now_us, detail::nowMicros());
+  // Each sample is stamped with the table's own time, mapped onto the host's clock: stamping
+  // with the time of the read would add the host's scheduling delay (milliseconds on a busy
+  // machine, degrees of angle at speed) to every line's angle.
+  std::vector<turntable::AngleSample> samples;
+  for (const std::string& line : lines) {
+    const auto reply = turntable::parseReply(line);
+    if (!reply || !std::holds_alternative<turntable::AngleSample>(*reply)) continue;
+    turntable::AngleSample sample = std::get<turntable::AngleSample>(*reply);
+    if (sample.time_us < impl_->last_table_us) impl_->offset_us.reset();  // its clock restarted
+    impl_->last_table_us = sample.time_us;
+    const std::int64_t offset = now_us - sample.time_us;
+    if (!impl_->offset_us || offset < *impl_->offset_us) impl_->offset_us = offset;
+    sample.time_us += *impl_->offset_us;
+    samples.push_back(sample);
+  }
+  return samples;
 }
 
 }  // namespace clearway::hardware

@@ -3,6 +3,7 @@
 #include <QComboBox>
 #include <QDateTime>
 #include <QDir>
+#include <QFile>
 #include <QFormLayout>
 #include <QHBoxLayout>
 #include <QLabel>
@@ -10,10 +11,15 @@
 #include <QProgressBar>
 #include <QPushButton>
 #include <QSpinBox>
+#include <QStackedWidget>
 #include <QStandardPaths>
+#include <optional>
 
+#include "clearway/hardware/acquisition_files.h"
+#include "clearway/hardware/pose_source.h"
 #include "clearway/hardware/serial_rosi.h"
 #include "clearway/hardware/simulated_rosi.h"
+#include "clearway/io/file_util.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
 
@@ -21,11 +27,23 @@ namespace clearway::ui {
 
 using hardware::ScannerDevice;
 
+namespace {
+constexpr int kSimulatedPage = 0;
+constexpr int kSerialPage = 1;
+}  // namespace
+
 struct HardwarePanel::Private {
   QComboBox* device = nullptr;
   QComboBox* scene = nullptr;
   QSpinBox* lines = nullptr;
   QPushButton* connect = nullptr;
+  QPushButton* disconnect = nullptr;
+  QStackedWidget* fields = nullptr;  // the chosen device's own fields only
+  QLineEdit* arm_port = nullptr;
+  QLabel* mounting_label = nullptr;
+  QLineEdit* mounting = nullptr;
+  QLabel* arm_pose = nullptr;
+  QString journal;  // of the scan in progress on a serial device
   QPushButton* scan = nullptr;
   QPushButton* cancel = nullptr;
   QLabel* status = nullptr;
@@ -48,13 +66,31 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->device->addItem(tr("Simulated RoSi"));
   d_->device->addItem(tr("Serial RoSi (LMS200 + turntable)"));
   form->addRow(tr("Device"), d_->device);
-  d_->lms_port = new QLineEdit("/dev/ttyUSB0", this);
+  // Each device shows only its own fields: a scene for the simulated RoSi, ports, link speed,
+  // arm and mounting for the serial one.
+  d_->fields = new QStackedWidget(this);
+  d_->fields->setObjectName("deviceFields");
+  auto* simulated_page = new QWidget(d_->fields);
+  simulated_page->setObjectName("simulatedFields");
+  auto* simulated_form = new QFormLayout(simulated_page);
+  simulated_form->setContentsMargins(0, 0, 0, 0);
+  d_->scene = new QComboBox(simulated_page);
+  d_->scene->setObjectName("simulatedScene");
+  for (const std::string& name : sim::builtinSceneNames())
+    d_->scene->addItem(QString::fromStdString(name));
+  d_->scene->setCurrentText("garage");
+  simulated_form->addRow(tr("Scene"), d_->scene);
+  auto* serial_page = new QWidget(d_->fields);
+  serial_page->setObjectName("serialFields");
+  auto* serial_form = new QFormLayout(serial_page);
+  serial_form->setContentsMargins(0, 0, 0, 0);
+  d_->lms_port = new QLineEdit("/dev/ttyUSB0", serial_page);
   d_->lms_port->setObjectName("lmsPort");
-  d_->turntable_port = new QLineEdit("/dev/ttyUSB1", this);
+  d_->turntable_port = new QLineEdit("/dev/ttyUSB1", serial_page);
   d_->turntable_port->setObjectName("turntablePort");
-  form->addRow(tr("Laser port"), d_->lms_port);
-  form->addRow(tr("Turntable port"), d_->turntable_port);
-  d_->link_speed = new QComboBox(this);
+  serial_form->addRow(tr("Laser port"), d_->lms_port);
+  serial_form->addRow(tr("Turntable port"), d_->turntable_port);
+  d_->link_speed = new QComboBox(serial_page);
   d_->link_speed->setObjectName("linkSpeed");
   for (const int baud : {9600, 19200, 38400, 500000})
     d_->link_speed->addItem(tr("%1 baud").arg(baud), baud);
@@ -62,13 +98,41 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->link_speed->setToolTip(
       tr("The laser starts at 9600 baud and is switched to this speed; 500 kbaud needs an RS-422 "
          "adapter that supports it"));
-  form->addRow(tr("Laser link"), d_->link_speed);
-  d_->scene = new QComboBox(this);
-  d_->scene->setObjectName("simulatedScene");
-  for (const std::string& name : sim::builtinSceneNames())
-    d_->scene->addItem(QString::fromStdString(name));
-  d_->scene->setCurrentText("garage");
-  form->addRow(tr("Scene"), d_->scene);
+  serial_form->addRow(tr("Laser link"), d_->link_speed);
+  d_->arm_port = new QLineEdit(serial_page);
+  d_->arm_port->setObjectName("armPort");
+  d_->arm_port->setPlaceholderText(tr("none: the RoSi is fixed on the robot"));
+  d_->arm_port->setToolTip(
+      tr("The arm controller's serial port (docs/ARM.md): asked for the "
+         "arm's pose before every scan"));
+  serial_form->addRow(tr("Arm port"), d_->arm_port);
+  d_->mounting_label = new QLabel(serial_page);
+  d_->mounting = new QLineEdit(serial_page);
+  d_->mounting->setObjectName("mounting");
+  d_->mounting->setToolTip(
+      tr("tx,ty,tz,qw,qx,qy,qz in metres and a unit quaternion. With an arm: where the RoSi sits "
+         "on the tool flange (tool from scanner). Without: where it sits on the robot (robot "
+         "from scanner). Empty without an arm: the scans carry no pose."));
+  serial_form->addRow(d_->mounting_label, d_->mounting);
+  d_->arm_pose = new QLabel(tr("No pose received yet."), serial_page);
+  d_->arm_pose->setObjectName("armPose");
+  d_->arm_pose->setWordWrap(true);
+  serial_form->addRow(tr("Pose"), d_->arm_pose);
+  d_->fields->addWidget(simulated_page);
+  d_->fields->addWidget(serial_page);
+  form->addRow(d_->fields);
+  const auto showMountingMeaning = [this] {
+    const bool arm = !d_->arm_port->text().trimmed().isEmpty();
+    d_->mounting_label->setText(arm ? tr("Mounting (tool from scanner)")
+                                    : tr("Mounting (robot from scanner)"));
+    d_->mounting->setPlaceholderText(
+        arm ? QString::fromStdString(hardware::formatPose(hardware::defaultToolFromScanner()))
+            : tr("none"));
+  };
+  showMountingMeaning();
+  connect(d_->arm_port, &QLineEdit::textChanged, this, showMountingMeaning);
+  connect(d_->device, qOverload<int>(&QComboBox::currentIndexChanged), d_->fields,
+          &QStackedWidget::setCurrentIndex);
   d_->lines = new QSpinBox(this);
   d_->lines->setObjectName("scanLines");
   d_->lines->setRange(20, 4000);
@@ -78,11 +142,15 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   auto* buttons = new QHBoxLayout;
   d_->connect = new QPushButton(tr("Connect"), this);
   d_->connect->setObjectName("connectButton");
+  d_->disconnect = new QPushButton(tr("Disconnect"), this);
+  d_->disconnect->setObjectName("disconnectButton");
+  d_->disconnect->setEnabled(false);
   d_->scan = new QPushButton(tr("Scan"), this);
   d_->scan->setObjectName("scanButton");
   d_->cancel = new QPushButton(tr("Cancel"), this);
   d_->cancel->setObjectName("cancelScanButton");
   buttons->addWidget(d_->connect);
+  buttons->addWidget(d_->disconnect);
   buttons->addWidget(d_->scan);
   buttons->addWidget(d_->cancel);
   form->addRow(buttons);
@@ -97,6 +165,7 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->cancel->setEnabled(false);
 
   connect(d_->connect, &QPushButton::clicked, this, &HardwarePanel::connectScanner);
+  connect(d_->disconnect, &QPushButton::clicked, this, &HardwarePanel::disconnectScanner);
   connect(d_->scan, &QPushButton::clicked, this, &HardwarePanel::startScan);
   connect(d_->cancel, &QPushButton::clicked, this, &HardwarePanel::cancelScan);
   connect(this, &HardwarePanel::statusChanged, d_->status, &QLabel::setText);
@@ -117,9 +186,29 @@ void HardwarePanel::setSpeedup(double speedup) {
 }
 
 void HardwarePanel::connectScanner() {
-  if (d_->device->currentIndex() == 1) {
-    d_->scanner = std::make_unique<hardware::SerialRosi>(
+  if (d_->scanner) disconnectScanner();
+  if (d_->device->currentIndex() == kSerialPage) {
+    const QString arm = d_->arm_port->text().trimmed();
+    const QString mounting_text = d_->mounting->text().trimmed();
+    std::optional<hardware::RigidPose> mounting;
+    if (!mounting_text.isEmpty()) {
+      std::string error;
+      mounting = hardware::parsePose(mounting_text.toStdString(), error);
+      if (!mounting) {
+        emit statusChanged(tr("The mounting is not a pose: %1").arg(QString::fromStdString(error)));
+        return;
+      }
+    }
+    auto serial = std::make_unique<hardware::SerialRosi>(
         d_->lms_port->text(), d_->turntable_port->text(), d_->link_speed->currentData().toInt());
+    if (!arm.isEmpty())
+      serial->setPoseSource(std::make_shared<hardware::ArmPoseSource>(
+          arm.toStdString(), mounting.value_or(hardware::defaultToolFromScanner())));
+    else if (mounting)
+      serial->setPoseSource(std::make_shared<hardware::FixedMounting>(*mounting));
+    d_->arm_pose->setText(arm.isEmpty() && !mounting ? tr("None: the scans carry no pose.")
+                                                     : tr("No pose received yet."));
+    d_->scanner = std::move(serial);
   } else {
     auto simulated = std::make_unique<hardware::SimulatedRosi>(
         *sim::builtinScene(d_->scene->currentText().toStdString()));
@@ -129,10 +218,14 @@ void HardwarePanel::connectScanner() {
   ScannerDevice* device = d_->scanner.get();
   connect(device, &ScannerDevice::stateChanged, this, [this, device](ScannerDevice::State state) {
     d_->scan->setEnabled(state == ScannerDevice::State::kIdle);
+    d_->disconnect->setEnabled(state != ScannerDevice::State::kDisconnected);
+    d_->connect->setEnabled(state == ScannerDevice::State::kDisconnected ||
+                            state == ScannerDevice::State::kFailed);
     d_->cancel->setEnabled(state == ScannerDevice::State::kScanning);
     emit statusChanged(tr("%1: %2.").arg(device->description(), ScannerDevice::stateName(state)));
   });
   connect(device, &ScannerDevice::linesArrived, this, &HardwarePanel::linesArrived);
+  connect(device, &ScannerDevice::poseReceived, d_->arm_pose, &QLabel::setText);
   connect(device, &ScannerDevice::progress, this, [this](int received, int expected) {
     d_->progress->setMaximum(expected);
     d_->progress->setValue(received);
@@ -148,18 +241,33 @@ void HardwarePanel::connectScanner() {
                              QDateTime::currentDateTime().toString("yyyyMMdd-hhmmss-zzz") +
                              (complete ? "" : "-partial") + ".pcd";
         const QString path = QDir(d_->folder).filePath(name);
+        const auto forgetJournal = [this] {
+          if (!d_->journal.isEmpty()) QFile::remove(d_->journal);
+          d_->journal.clear();
+        };
         if (scan->empty()) {
+          forgetJournal();
           emit statusChanged(
               tr("The scan was cancelled before any line arrived; nothing to keep."));
           return;
         }
         try {
           saveRosiPcd(*scan, path.toStdString());
+          // Where the scanner was, beside the scan, for the pose resolution.
+          if (const auto* serial = dynamic_cast<hardware::SerialRosi*>(d_->scanner.get());
+              serial && serial->lastPose())
+            writeTextFileAtomically(hardware::poseSidecarPathFor(path.toStdString()),
+                                    hardware::poseSidecarJson(*serial->lastPose()));
         } catch (const std::exception& error) {
           emit statusChanged(
-              tr("The scan could not be saved: %1").arg(QString::fromUtf8(error.what())));
+              tr("The scan could not be saved: %1").arg(QString::fromUtf8(error.what())) +
+              (d_->journal.isEmpty() ? QString()
+                                     : tr(" Its lines are kept in %1 (clearway-cli acquire "
+                                          "--recover).")
+                                           .arg(d_->journal)));
           return;
         }
+        forgetJournal();
         emit statusChanged(
             complete
                 ? tr("Scan saved to %1.").arg(path)
@@ -170,10 +278,32 @@ void HardwarePanel::connectScanner() {
   device->connectDevice();
 }
 
+void HardwarePanel::disconnectScanner() {
+  if (!d_->scanner) return;
+  d_->scanner->disconnectDevice();
+  // Deleted later: queued results of a cancelled scan may still name it.
+  d_->scanner.release()->deleteLater();
+  d_->scan->setEnabled(false);
+  d_->cancel->setEnabled(false);
+  d_->disconnect->setEnabled(false);
+  d_->connect->setEnabled(true);
+  emit statusChanged(tr("Disconnected."));
+}
+
 void HardwarePanel::startScan() {
   if (!d_->scanner) return;
   hardware::ScanRequest request;
   request.lines = d_->lines->value();
+  if (dynamic_cast<hardware::SerialRosi*>(d_->scanner.get())) {
+    // Every line journaled as it arrives: a crash of the console keeps them (recover with
+    // clearway-cli acquire --recover, docs/JOURNAL.md).
+    QDir().mkpath(d_->folder);
+    d_->journal =
+        QDir(d_->folder)
+            .filePath("rosi-" + QDateTime::currentDateTime().toString("yyyyMMdd-hhmmss-zzz") +
+                      ".journal");
+    request.journal = d_->journal.toStdString();
+  }
   d_->progress->setValue(0);
   emit scanStarted();
   d_->scanner->startScan(request);

@@ -105,11 +105,16 @@ TEST(CliEmulate, WritesThePortsFileAndServesBothTerminals) {
 TEST(CliAcquire, AcquiresFromTheEmulatorAndFailsClearlyWithoutADevice) {
   test::TemporaryDirectory directory;
   const auto ports = (directory / "ports.json").string();
-  ASSERT_EQ(std::system((shellQuote(CLEARWAY_CLI) +
-                         " emulate --scene garage --speed 20 --seconds 2 --ports " +
-                         shellQuote(ports) + " > /dev/null &")
-                            .c_str()),
-            0);
+  // Long enough for clearway-cli to start and acquire on a busy machine.
+  constexpr double kEmulatorSeconds = 6.0;
+  const auto emulator_end = std::chrono::steady_clock::now() +
+                            std::chrono::milliseconds(int(kEmulatorSeconds * 1000) + 200);
+  ASSERT_EQ(
+      std::system((shellQuote(CLEARWAY_CLI) + " emulate --scene garage --speed 20 --seconds " +
+                   std::to_string(kEmulatorSeconds) + " --ports " + shellQuote(ports) +
+                   " > /dev/null &")
+                      .c_str()),
+      0);
   for (int attempt = 0; attempt < 100 && !std::filesystem::exists(ports); ++attempt)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   const auto json = nlohmann::json::parse(test::readBytes(ports));
@@ -128,7 +133,7 @@ TEST(CliAcquire, AcquiresFromTheEmulatorAndFailsClearlyWithoutADevice) {
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("cannot open /dev/clearway-none"), std::string::npos) << missing.err;
   EXPECT_EQ(runCli("acquire -o x.pcd").exit_code, 2);
-  std::this_thread::sleep_for(std::chrono::milliseconds(2000));  // let the emulator end first
+  std::this_thread::sleep_until(emulator_end);  // let the emulator end first
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <QObject>
 #include <QString>
 #include <memory>
+#include <string>
 
 #include "clearway/scan.h"
 
@@ -15,6 +16,9 @@ namespace clearway::hardware {
 struct ScanRequest {
   int lines = 0;                       // 0 = one full revolution at the configured speed
   double turntable_speed_deg_s = 0.0;  // 0 = the device's default
+  // Real devices: every line is journaled here as it arrives (docs/JOURNAL.md), so a crash of the
+  // console loses none; the caller removes it once the scan is saved. Empty: no journal.
+  std::string journal;
 };
 
 class ScannerDevice : public QObject {
@@ -47,6 +51,8 @@ class ScannerDevice : public QObject {
   void scanFinished(std::shared_ptr<const clearway::Scan> scan, bool complete);
   // An operator-readable reason.
   void failed(const QString& reason);
+  // Where the scanner is for the scan that starts (e.g. the arm's tilt and roll), in words.
+  void poseReceived(const QString& summary);
 
  protected:
   virtual void doConnect() = 0;

@@ -6,9 +6,12 @@
 // at its arrival and kept until one revolution (or the requested lines) is complete. Blocking:
 // the console runs it on a worker thread; clearway-cli acquire calls it directly.
 
+#include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 
+#include "clearway/hardware/pose_source.h"
 #include "clearway/progress.h"
 #include "clearway/scan.h"
 
@@ -17,7 +20,9 @@ namespace clearway::hardware {
 struct AcquisitionOptions {
   int lines = 0;  // 0 = one full revolution
   double turntable_speed_deg_s = 45.0;
-  int answer_timeout_ms = 1000;  // a device silent this long is lost
+  // The watchdog: a laser that sends no line, or a turntable that sends no angle or whose angle
+  // does not change, for this long ends the acquisition with a reason (the lines kept).
+  int answer_timeout_ms = 1000;
   // The LMS200 starts at 9600 baud; after setup it is switched to this: 9600, 19200, 38400 or
   // 500000 (the last needs an RS-422 interface).
   int baud = 38400;
@@ -25,12 +30,26 @@ struct AcquisitionOptions {
   // Called with the scan so far every `lines_arrived_every` lines (on the acquiring thread).
   std::function<void(const Scan&)> lines_arrived;
   int lines_arrived_every = 16;
+  // Every line and angle is appended here as it arrives (scan_journal.h); empty: no journal.
+  std::filesystem::path journal;
+  // Readable = stop now, as the operator asked (a self-pipe written by a signal handler); -1: none.
+  int stop_fd = -1;
+  // Where the scanner is for this scan: becomes the scan's sensor_pose (PCD VIEWPOINT).
+  std::optional<PoseReading> pose;
 };
 
 struct Acquisition {
-  Scan scan;              // organised: one row of 180 points per line, beta per line
-  bool complete = false;  // false: `error` says why; `scan` holds the lines that arrived
+  Scan scan;  // organised: one row of 180 points per line, beta per line
+  // False: `error` says why; `scan` holds the lines that arrived. Never true when a line was
+  // dropped.
+  bool complete = false;
   std::string error;
+  std::size_t lines_received = 0;  // measured-values lines that arrived intact
+  std::size_t dropped_lines = 0;   // telegrams lost to corruption (bad checksum, malformed)
+  std::size_t untagged_lines = 0;  // arrived, but no turntable angle could be given to them
+  bool stopped = false;            // ended by the stop descriptor (a signal)
+  std::string journal_error;       // the journal could not be written (the scan is in memory)
+  std::optional<PoseReading> pose;
 };
 
 // Never throws for device trouble: it is reported in `error`, with what arrived kept. When

@@ -6,8 +6,10 @@
 #include <QString>
 #include <atomic>
 #include <memory>
+#include <optional>
 #include <thread>
 
+#include "clearway/hardware/pose_source.h"
 #include "clearway/hardware/scanner_device.h"
 #include "clearway/hardware/serial_acquisition.h"
 
@@ -23,6 +25,11 @@ class SerialRosi : public ScannerDevice {
   ~SerialRosi() override;  // cancels and waits for a running scan
 
   QString description() const override;
+  // Asked for the scanner's pose before every scan (the arm, or a fixed mounting); the scan
+  // carries it as its sensor pose. None: the scan has no pose.
+  void setPoseSource(std::shared_ptr<PoseSource> source) { pose_source_ = std::move(source); }
+  // The pose of the last scan started, for its SCAN.pose.json.
+  const std::optional<PoseReading>& lastPose() const { return last_pose_; }
 
  protected:
   void doConnect() override;
@@ -34,6 +41,8 @@ class SerialRosi : public ScannerDevice {
   void join();
   QString lms_port_, turntable_port_;
   int baud_;
+  std::shared_ptr<PoseSource> pose_source_;
+  std::optional<PoseReading> last_pose_;
   std::thread worker_;
   std::shared_ptr<std::atomic<bool>> cancel_ = std::make_shared<std::atomic<bool>>(false);
 };

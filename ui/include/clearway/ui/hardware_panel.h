@@ -1,7 +1,8 @@
 #pragma once
 
-// The scanner: choose the device (the simulated RoSi, or the RoSi on two serial ports), Connect,
-// Scan (scan-and-stop), Cancel, live progress and the device's state in words.
+// The scanner: choose the device (the simulated RoSi, or the RoSi on two serial ports with its
+// arm and mounting), Connect, Disconnect, Scan (scan-and-stop), Cancel, live progress, the pose
+// the arm reported and the device's state in words. Each device shows only its own fields.
 // Every acquisition is saved (atomically) before anything else happens, then handed on.
 
 #include <QWidget>
@@ -26,6 +27,7 @@ class HardwarePanel : public QWidget {
 
  public slots:
   void connectScanner();
+  void disconnectScanner();
   void startScan();
   void cancelScan();
 

@@ -1,0 +1,35 @@
+#pragma once
+
+// The files an acquisition leaves beside SCAN.pcd: SCAN.journal while it runs (scan_journal.h),
+// then the scan (SCAN.pcd when complete, SCAN.partial.pcd when not), SCAN.pose.json (where the
+// scanner was, when a pose source was given) and SCAN.acquisition.json (how the acquisition went:
+// lines received, dropped, why it ended). Every file is written atomically.
+
+#include <filesystem>
+#include <string>
+
+#include "clearway/hardware/serial_acquisition.h"
+
+namespace clearway::hardware {
+
+std::filesystem::path journalPathFor(const std::filesystem::path& scan);      // SCAN.journal
+std::filesystem::path partialPathFor(const std::filesystem::path& scan);      // SCAN.partial.pcd
+std::filesystem::path poseSidecarPathFor(const std::filesystem::path& scan);  // SCAN.pose.json
+std::filesystem::path reportPathFor(const std::filesystem::path& scan);  // SCAN.acquisition.json
+
+// Checked before scanning, so no scan is lost to a typo: the name ends in .pcd, its folder
+// exists, is a folder and is writable. Empty when fine, else the reason naming the path.
+std::string checkOutputPath(const std::filesystem::path& scan);
+
+// {"version":1, "world_from_scanner": {"translation":[x,y,z], "rotation_wxyz":[w,x,y,z]},
+//  "source": "arm"|"mounting", "arm_tilt_deg": .., "arm_roll_deg": .., "time": ISO 8601}
+std::string poseSidecarJson(const PoseReading& pose);
+// What SCAN.acquisition.json says about an acquisition saved as `saved`.
+std::string acquisitionReportJson(const Acquisition& acquisition,
+                                  const std::filesystem::path& saved);
+
+// Saves the scan to `file`, its pose sidecar (when the pose is known) and its report. Throws
+// ScanError when a file cannot be written.
+void saveAcquisition(const Acquisition& acquisition, const std::filesystem::path& file);
+
+}  // namespace clearway::hardware

@@ -1,0 +1,90 @@
+#include "clearway/hardware/acquisition_files.h"
+
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+#include "clearway/io/file_util.h"
+#include "clearway/io/scan_io.h"
+
+namespace clearway::hardware {
+namespace {
+
+std::filesystem::path withSuffix(const std::filesystem::path& scan, const std::string& suffix) {
+  std::filesystem::path result = scan;
+  result.replace_extension(suffix);
+  return result;
+}
+
+}  // namespace
+
+std::filesystem::path journalPathFor(const std::filesystem::path& scan) {
+  return withSuffix(scan, ".journal");
+}
+std::filesystem::path partialPathFor(const std::filesystem::path& scan) {
+  return withSuffix(scan, ".partial.pcd");
+}
+std::filesystem::path poseSidecarPathFor(const std::filesystem::path& scan) {
+  return withSuffix(scan, ".pose.json");
+}
+std::filesystem::path reportPathFor(const std::filesystem::path& scan) {
+  return withSuffix(scan, ".acquisition.json");
+}
+
+std::string checkOutputPath(const std::filesystem::path& scan) {
+  if (scan.extension() != ".pcd")
+    return scan.string() + ": an acquired scan is saved as PCD: give a name ending in .pcd";
+  const std::filesystem::path folder =
+      scan.parent_path().empty() ? std::filesystem::path(".") : scan.parent_path();
+  std::error_code error;
+  if (!std::filesystem::exists(folder, error))
+    return "the folder " + folder.string() + " for " + scan.string() + " does not exist";
+  if (!std::filesystem::is_directory(folder, error))
+    return folder.string() + " (the folder for " + scan.string() + ") is not a folder";
+  if (::access(folder.c_str(), W_OK | X_OK) != 0)
+    return "the folder " + folder.string() + " for " + scan.string() + " is not writable";
+  if (std::filesystem::is_directory(scan, error))
+    return scan.string() + " is a folder, not a file name";
+  return {};
+}
+
+std::string poseSidecarJson(const PoseReading& pose) {
+  const RigidPose& p = pose.world_from_scanner;
+  nlohmann::ordered_json json;
+  json["version"] = 1;
+  json["world_from_scanner"] = {
+      {"translation", {p.translation.x(), p.translation.y(), p.translation.z()}},
+      {"rotation_wxyz", {p.rotation.w(), p.rotation.x(), p.rotation.y(), p.rotation.z()}}};
+  json["source"] = pose.source;
+  json["arm_tilt_deg"] = pose.arm_tilt_deg ? nlohmann::ordered_json(*pose.arm_tilt_deg) : nullptr;
+  json["arm_roll_deg"] = pose.arm_roll_deg ? nlohmann::ordered_json(*pose.arm_roll_deg) : nullptr;
+  json["time"] = pose.time;
+  return json.dump(2) + "\n";
+}
+
+std::string acquisitionReportJson(const Acquisition& acquisition,
+                                  const std::filesystem::path& saved) {
+  nlohmann::ordered_json json;
+  json["version"] = 1;
+  json["scan"] = saved.filename().string();
+  json["complete"] = acquisition.complete;
+  json["reason"] = acquisition.error;
+  json["lines"] = acquisition.scan.lines.size();
+  json["lines_received"] = acquisition.lines_received;
+  json["dropped_lines"] = acquisition.dropped_lines;
+  json["untagged_lines"] = acquisition.untagged_lines;
+  json["stopped_by_signal"] = acquisition.stopped;
+  if (!acquisition.journal_error.empty()) json["journal_error"] = acquisition.journal_error;
+  json["pose_source"] = acquisition.pose ? nlohmann::ordered_json(acquisition.pose->source)
+                                         : nlohmann::ordered_json(nullptr);
+  return json.dump(2) + "\n";
+}
+
+void saveAcquisition(const Acquisition& acquisition, const std::filesystem::path& file) {
+  saveRosiPcd(acquisition.scan, file);
+  if (acquisition.pose)
+    writeTextFileAtomically(poseSidecarPathFor(file), poseSidecarJson(*acquisition.pose));
+  writeTextFileAtomically(reportPathFor(file), acquisitionReportJson(acquisition, file));
+}
+
+}  // namespace clearway::hardware

@@ -1,0 +1,124 @@
+// The journal keeps every line received and its replay is the scan the acquisition made; a
+// journal cut by a crash still gives its lines; a file that is no journal is refused by name.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "clearway/hardware/rosi_emulator.h"
+#include "clearway/hardware/scan_journal.h"
+#include "clearway/hardware/serial_acquisition.h"
+#include "clearway/io/scan_error.h"
+#include "clearway/sim/builtin_scenes.h"
+
+namespace clearway::hardware {
+namespace {
+
+namespace fs = std::filesystem;
+
+class JournalFolder : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() /
+              ("clearway-journal-" + std::to_string(::getpid()) + "-" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override { fs::remove_all(folder_); }
+  fs::path folder_;
+};
+
+std::string readAll(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+TEST_F(JournalFolder, TheReplayedJournalIsTheAcquiredScan) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.lines = 120;
+  options.journal = folder_ / "scan.journal";
+  PoseReading pose;
+  pose.source = "mounting";
+  pose.world_from_scanner.translation = {0.5, -0.5, 1.2};
+  pose.time = "2026-11-22T21:00:00Z";
+  options.pose = pose;
+  const Acquisition live = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  ASSERT_TRUE(live.complete) << live.error;
+  ASSERT_TRUE(fs::exists(options.journal));  // the caller removes it once the scan is saved
+
+  const Acquisition replayed = recoverJournal(options.journal);
+  EXPECT_TRUE(replayed.complete) << replayed.error;
+  ASSERT_EQ(replayed.scan.lines.size(), live.scan.lines.size());
+  EXPECT_EQ(replayed.lines_received, live.lines_received);
+  for (std::size_t i = 0; i < live.scan.lines.size(); ++i)
+    ASSERT_DOUBLE_EQ(replayed.scan.lines[i].beta, live.scan.lines[i].beta) << "line " << i;
+  for (std::size_t i = 0; i < live.scan.size(); ++i) {
+    ASSERT_EQ(replayed.scan.status[i], live.scan.status[i]) << "point " << i;
+    if (live.scan.isValid(i)) {
+      ASSERT_FLOAT_EQ(replayed.scan.points[i].x, live.scan.points[i].x);
+    }
+  }
+  ASSERT_TRUE(replayed.pose);
+  EXPECT_EQ(replayed.pose->source, "mounting");
+  EXPECT_DOUBLE_EQ(replayed.pose->world_from_scanner.translation.z(), 1.2);
+  ASSERT_TRUE(replayed.scan.sensor_pose);
+  EXPECT_DOUBLE_EQ(replayed.scan.sensor_pose->position[0], 0.5);
+}
+
+TEST_F(JournalFolder, AJournalCutByACrashGivesEveryWholeLine) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.lines = 80;
+  options.journal = folder_ / "scan.journal";
+  ASSERT_TRUE(acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options).complete);
+  // Cut the file in the middle of its 50th line record, as a crash during a write would.
+  const std::string text = readAll(options.journal);
+  std::size_t at = 0;
+  for (int lines = 0; lines < 50; ++lines)
+    at = text.find("\nL ", at + 1);
+  ASSERT_NE(at, std::string::npos);
+  {
+    std::ofstream out(options.journal, std::ios::binary | std::ios::trunc);
+    out << text.substr(0, at + 40);
+  }
+  const Acquisition recovered = recoverJournal(options.journal);
+  EXPECT_FALSE(recovered.complete);
+  EXPECT_EQ(recovered.lines_received, 49u);
+  EXPECT_EQ(recovered.scan.lines.size(), 49u);
+  EXPECT_NE(recovered.error.find("ended without finishing"), std::string::npos) << recovered.error;
+}
+
+TEST_F(JournalFolder, AnExistingJournalIsNeverOverwritten) {
+  const fs::path file = folder_ / "scan.journal";
+  { std::ofstream(file) << "CLEARWAY-JOURNAL 1\nTARGET 0\n"; }
+  const ScanJournal journal(file, 0);
+  EXPECT_NE(journal.error().find("exists"), std::string::npos) << journal.error();
+  EXPECT_EQ(readAll(file), "CLEARWAY-JOURNAL 1\nTARGET 0\n");
+}
+
+TEST_F(JournalFolder, WhatIsNoJournalIsRefusedByName) {
+  const fs::path file = folder_ / "notes.journal";
+  { std::ofstream(file) << "hello\n"; }
+  try {
+    recoverJournal(file);
+    FAIL() << "accepted";
+  } catch (const ScanError& error) {
+    EXPECT_NE(std::string(error.what()).find("notes.journal"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("not a Clearway acquisition journal"),
+              std::string::npos);
+  }
+  { std::ofstream(file) << "CLEARWAY-JOURNAL 1\nTARGET 0\nL 12 oops\nA 1 2\n"; }
+  try {
+    recoverJournal(file);
+    FAIL() << "accepted";
+  } catch (const ScanError& error) {
+    EXPECT_NE(std::string(error.what()).find("line 3"), std::string::npos) << error.what();
+  }
+}
+
+}  // namespace
+}  // namespace clearway::hardware
