@@ -8,6 +8,8 @@
 namespace clearway::cli {
 
 int runAcquire(const std::vector<std::string>& words) {
+  for (const std::string& word : words)
+    if (word == "--remote" || word.starts_with("--remote=")) return runRemoteAcquire(words);
   const Arguments arguments(
       words, {}, {"lms", "turntable", "lines", "speed", "timeout", "baud", "o", "output"});
   arguments.expectPositional(
