@@ -16,10 +16,15 @@
 #include "clearway/hardware/simulated_rosi.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
+#include "remote_scanner_fields.h"
 
 namespace clearway::ui {
 
 using hardware::ScannerDevice;
+
+namespace {
+constexpr int kRemoteDevice = 2;  // the third device choice
+}
 
 struct HardwarePanel::Private {
   QComboBox* device = nullptr;
@@ -33,6 +38,7 @@ struct HardwarePanel::Private {
   QLineEdit* lms_port = nullptr;
   QLineEdit* turntable_port = nullptr;
   QComboBox* link_speed = nullptr;
+  RemoteScannerFields* remote = nullptr;
   std::unique_ptr<ScannerDevice> scanner;
   QString folder;
   double speedup = 8.0;
@@ -47,7 +53,13 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->device->setObjectName("scannerDevice");
   d_->device->addItem(tr("Simulated RoSi"));
   d_->device->addItem(tr("Serial RoSi (LMS200 + turntable)"));
+  d_->device->addItem(tr("Remote RoSi (clearway-cli serve on the robot)"));
   form->addRow(tr("Device"), d_->device);
+  d_->remote = new RemoteScannerFields(this);
+  d_->remote->setVisible(false);
+  form->addRow(d_->remote);
+  connect(d_->device, qOverload<int>(&QComboBox::currentIndexChanged), d_->remote,
+          [this](int index) { d_->remote->setVisible(index == kRemoteDevice); });
   d_->lms_port = new QLineEdit("/dev/ttyUSB0", this);
   d_->lms_port->setObjectName("lmsPort");
   d_->turntable_port = new QLineEdit("/dev/ttyUSB1", this);
@@ -117,7 +129,15 @@ void HardwarePanel::setSpeedup(double speedup) {
 }
 
 void HardwarePanel::connectScanner() {
-  if (d_->device->currentIndex() == 1) {
+  if (d_->device->currentIndex() == kRemoteDevice) {
+    QString problem;
+    std::unique_ptr<ScannerDevice> remote = d_->remote->createDevice(&problem);
+    if (!remote) {
+      emit statusChanged(problem);
+      return;
+    }
+    d_->scanner = std::move(remote);
+  } else if (d_->device->currentIndex() == 1) {
     d_->scanner = std::make_unique<hardware::SerialRosi>(
         d_->lms_port->text(), d_->turntable_port->text(), d_->link_speed->currentData().toInt());
   } else {

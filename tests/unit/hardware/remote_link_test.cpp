@@ -130,7 +130,8 @@ class TestProxy : public QObject {
 
   void pumpDown() {
     const double now_s = clock_.elapsed() / 1000.0;
-    if (rate_ > 0) budget_ = std::min(rate_ * kPumpMs / 1000.0 * 4, budget_ + rate_ * (now_s - last_s_));
+    if (rate_ > 0)
+      budget_ = std::min(rate_ * kPumpMs / 1000.0 * 4, budget_ + rate_ * (now_s - last_s_));
     last_s_ = now_s;
     for (const auto& link : links_) {
       if (!link->console || link->down.isEmpty()) continue;
@@ -356,7 +357,8 @@ TEST_F(RemoteLink, RefusedWithWrongCredentialsWithAReasonOnBothSides) {
   rosi.connectDevice();
   ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kFailed; }));
   ASSERT_FALSE(result.failures.isEmpty());
-  EXPECT_TRUE(result.failures.front().contains("credentials")) << result.failures.front().toStdString();
+  EXPECT_TRUE(result.failures.front().contains("credentials"))
+      << result.failures.front().toStdString();
   EXPECT_TRUE(logMentions("TLS handshake failed")) << log_.join("\n").toStdString();
 
   options.credentials.key.identity = "intruder";  // an identity the robot does not know
@@ -421,7 +423,8 @@ TEST_F(RemoteLink, AnOldProtocolVersionIsRefusedWithTheReason) {
   Frame hello = encode(Hello{});
   hello.version = 0;
   client.socket().write(encodeFrame(hello));
-  ASSERT_TRUE(waitFor([&] { return client.socket().state() == QAbstractSocket::UnconnectedState; }));
+  ASSERT_TRUE(
+      waitFor([&] { return client.socket().state() == QAbstractSocket::UnconnectedState; }));
   FrameParser parser;
   parser.feed(client.received());
   const std::optional<Frame> answer = parser.next();
@@ -514,7 +517,8 @@ TEST_F(RemoteLink, TenThousandMalformedFramesWhileAGoodConsoleIsServed) {
     QObject::connect(socket, &QSslSocket::encrypted, [socket, frame, hello_first] {
       if (hello_first) socket->write(encodeFrame(encode(Hello{Role::kWatch, {}, "fuzzer"})));
       socket->write(frame);
-      if (frame.size() < 7 || qFromBigEndian<quint32>(frame.constData()) + 4 > quint32(frame.size()))
+      if (frame.size() < 7 ||
+          qFromBigEndian<quint32>(frame.constData()) + 4 > quint32(frame.size()))
         socket->disconnectFromHost();  // truncated: the peer goes away mid-frame
     });
     QObject::connect(socket, &QAbstractSocket::disconnected, [&, client] {
@@ -525,7 +529,8 @@ TEST_F(RemoteLink, TenThousandMalformedFramesWhileAGoodConsoleIsServed) {
       launch();
     });
   };
-  for (int i = 0; i < kParallel; ++i) launch();
+  for (int i = 0; i < kParallel; ++i)
+    launch();
   // The good console scans again and again while the fuzzer runs.
   int scans_started = 0;
   ASSERT_TRUE(waitFor(
