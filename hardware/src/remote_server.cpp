@@ -20,6 +20,8 @@ namespace {
 constexpr int kLinesPerFrame = 8;
 // A console that lets this much pile up unread is not reading; it is dropped, not buffered.
 constexpr qint64 kMaxUnsentBytes = 16 * 1024 * 1024;
+// How long a refused peer has to receive the reason before its connection is dropped.
+constexpr int kRefusalDrainMs = 1000;
 
 struct Session {
   int id = 0;
@@ -91,12 +93,17 @@ struct RemoteScanServer::Private {
     if (controller == id) controller = 0;
     s->timer->stop();
     if (refused && s->socket->isEncrypted()) {
+      // Tell the peer why, let the reason drain, then forget the connection (at most 1 s later).
       s->socket->write(encodeFrame(encodeText(MessageType::kRefused, reason)));
-      s->socket->disconnectFromHost();  // flushes the reason, then closes
-      QTimer::singleShot(1000, s->socket, [socket = s->socket] { socket->abort(); });
-    } else {
-      s->socket->abort();
+      // Queued: a caller may still hold this session (forget() must never run inside close()).
+      QObject::connect(
+          s->socket, &QAbstractSocket::disconnected, q, [this, id] { forget(id); },
+          Qt::QueuedConnection);
+      QTimer::singleShot(kRefusalDrainMs, q, [this, id] { forget(id); });
+      s->socket->disconnectFromHost();
+      return;
     }
+    s->socket->abort();
     QMetaObject::invokeMethod(
         q, [this, id] { forget(id); }, Qt::QueuedConnection);
   }
@@ -104,6 +111,8 @@ struct RemoteScanServer::Private {
   void forget(int id) {
     const auto found = sessions.find(id);
     if (found == sessions.end()) return;
+    found->second->socket->disconnect(q);
+    found->second->socket->abort();
     found->second->socket->deleteLater();
     sessions.erase(found);
   }
