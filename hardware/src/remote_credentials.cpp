@@ -42,7 +42,9 @@ void writePrivateJson(const QString& path, const QJsonObject& object) {
 
 QString resolve(const QString& dir_or_file, const char* name) {
   const QFileInfo info(dir_or_file);
-  return info.isDir() ? QDir(dir_or_file).filePath(name) : dir_or_file;
+  // A folder (existing or not) holds the file; only a path ending in .json names it directly.
+  return info.isDir() || !dir_or_file.endsWith(".json") ? QDir(dir_or_file).filePath(name)
+                                                        : dir_or_file;
 }
 
 QJsonObject readJson(const QString& path, const QString& role) {
