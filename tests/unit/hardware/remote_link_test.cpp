@@ -236,7 +236,11 @@ TEST_F(RemoteLink, ScanEndToEndEqualsTheSimulatorsScanAndTheRobotsFile) {
   rosi.startScan({kGarageLines, 0.0});
   ASSERT_TRUE(waitFor([&] { return result.done; }));
   ASSERT_TRUE(result.complete) << result.failures.join("; ").toStdString();
-  expectSameScan(*result.scan, simulatorScan(kGarageLines));
+  const Scan expected = simulatorScan(kGarageLines);
+  expectSameScan(*result.scan, expected);
+  ASSERT_TRUE(result.scan->sensor_pose.has_value());  // the scan's pose came with it
+  EXPECT_EQ(result.scan->sensor_pose->position, expected.sensor_pose->position);
+  EXPECT_EQ(result.scan->sensor_pose->rotation, expected.sensor_pose->rotation);
   // The robot saved it before calling it finished, and that file is what the console got.
   ASSERT_FALSE(saved.isEmpty());
   LoadOptions load;
@@ -331,6 +335,29 @@ TEST_F(RemoteLink, OneMegabitLinkTimeFromLastLineToResult) {
   std::cout << "[ figure ] 1 Mbit/s link, " << kGarageLines
             << " lines at 37.5 lines/s: last line on the robot -> complete scan on the console: "
             << (result_ms - last_line_ms) << " ms (scan took " << last_line_ms << " ms)\n";
+}
+
+TEST_F(RemoteLink, CancelKeepsWhatArrivedOnBothSidesMarkedPartial) {
+  device_->setSpeedup(2.0);  // 75 lines/s: slow enough to cancel halfway
+  RemoteRosi rosi(consoleOptions(server_->serverPort()));
+  Result result;
+  collect(rosi, result);
+  QString saved;
+  connect(server_.get(), &RemoteScanServer::scanSaved,
+          [&saved](const QString& path, bool) { saved = path; });
+  int received = 0;
+  connect(&rosi, &RemoteRosi::progress, [&received](int lines, int) { received = lines; });
+  rosi.connectDevice();
+  ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
+  rosi.startScan({kGarageLines, 0.0});
+  ASSERT_TRUE(waitFor([&] { return received >= 40; }));
+  rosi.cancelScan();
+  ASSERT_TRUE(waitFor([&] { return result.done; }));
+  EXPECT_FALSE(result.complete);
+  EXPECT_GE(result.scan->lines.size(), 40U);
+  EXPECT_LT(result.scan->lines.size(), std::size_t(kGarageLines));
+  EXPECT_TRUE(saved.endsWith("-partial.pcd")) << saved.toStdString();
+  EXPECT_EQ(rosi.state(), ScannerDevice::State::kIdle);
 }
 
 TEST_F(RemoteLink, RefusedWithoutCredentials) {
