@@ -460,6 +460,41 @@ TEST_F(RemoteLink, AnOldProtocolVersionIsRefusedWithTheReason) {
   EXPECT_TRUE(logMentions("protocol version 0"));
 }
 
+TEST_F(RemoteLink, TheSameConsoleReconnectingTakesItsControlBack) {
+  // Over a dead link the robot may not yet know the old connection is gone: the console's session
+  // token lets its new connection take control, and the old one is closed.
+  const ConsoleCredentials credentials = loadConsoleCredentials(credentials_dir_.path());
+  const QByteArray token(kSessionTokenBytes, 'A');
+  auto welcomeOf = [](RawTlsClient& client) -> std::optional<Welcome> {
+    FrameParser parser;
+    parser.feed(client.received());
+    const std::optional<Frame> frame = parser.next();
+    if (!frame || frame->type != MessageType::kWelcome) return std::nullopt;
+    return decodeWelcome(*frame);
+  };
+  RawTlsClient old_link(server_->serverPort(), credentials);
+  ASSERT_TRUE(waitFor([&] { return old_link.socket().isEncrypted(); }));
+  old_link.socket().write(encodeFrame(encode(Hello{Role::kControl, token, "console"})));
+  ASSERT_TRUE(waitFor([&] { return welcomeOf(old_link).has_value(); }));
+  EXPECT_EQ(welcomeOf(old_link)->granted, Role::kControl);
+
+  RawTlsClient other(server_->serverPort(), credentials);  // another console: watches
+  ASSERT_TRUE(waitFor([&] { return other.socket().isEncrypted(); }));
+  other.socket().write(
+      encodeFrame(encode(Hello{Role::kControl, QByteArray(kSessionTokenBytes, 'B'), "other"})));
+  ASSERT_TRUE(waitFor([&] { return welcomeOf(other).has_value(); }));
+  EXPECT_EQ(welcomeOf(other)->granted, Role::kWatch);
+
+  RawTlsClient new_link(server_->serverPort(), credentials);
+  ASSERT_TRUE(waitFor([&] { return new_link.socket().isEncrypted(); }));
+  new_link.socket().write(encodeFrame(encode(Hello{Role::kControl, token, "console"})));
+  ASSERT_TRUE(waitFor([&] { return welcomeOf(new_link).has_value(); }));
+  EXPECT_EQ(welcomeOf(new_link)->granted, Role::kControl);
+  EXPECT_TRUE(
+      waitFor([&] { return old_link.socket().state() == QAbstractSocket::UnconnectedState; }));
+  EXPECT_TRUE(logMentions("replaced by a reconnection of the same console"));
+}
+
 // One malformed or truncated frame, of the kinds a broken or hostile peer sends.
 QByteArray fuzzFrame(QRandomGenerator& random, const Scan& scan) {
   const Frame good = [&] {
