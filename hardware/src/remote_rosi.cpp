@@ -123,6 +123,13 @@ void RemoteRosi::doDisconnect() {
 }
 
 void RemoteRosi::doStartScan(const ScanRequest& request) {
+  if (!d_->welcomed) {
+    // Never queued for later: the operator decides again when the link is back.
+    setState(State::kIdle);
+    emit failed(tr("The link to the robot is down (%1); start the scan again when it is back.")
+                    .arg(d_->status));
+    return;
+  }
   d_->start_pending = true;
   d_->scan.reset();
   d_->scan_id = 0;
