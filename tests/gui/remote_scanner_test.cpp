@@ -18,6 +18,8 @@
 
 using clearway::ui::HardwarePanel;
 
+Q_DECLARE_METATYPE(std::shared_ptr<const clearway::Scan>)
+
 namespace {
 constexpr int kTimeoutMs = 60000;  // only against hangs
 constexpr int kRemoteDevice = 2;

@@ -234,6 +234,21 @@ TEST_F(RemoteLink, CancelKeepsWhatArrivedOnBothSidesMarkedPartial) {
   EXPECT_EQ(rosi.state(), ScannerDevice::State::kIdle);
 }
 
+TEST_F(RemoteLink, WhileTheRobotIsGoneTheConsoleSaysSoAndStartsNothing) {
+  RemoteRosi rosi(consoleOptions(server_->serverPort()));
+  Result result;
+  collect(rosi, result);
+  rosi.connectDevice();
+  ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
+  server_.reset();  // the robot's server goes away
+  ASSERT_TRUE(waitFor([&] { return rosi.linkStatus().contains("link lost"); }));
+  EXPECT_TRUE(rosi.linkStatus().contains("reconnecting")) << rosi.linkStatus().toStdString();
+  rosi.startScan({50, 0.0});
+  ASSERT_FALSE(result.failures.isEmpty());
+  EXPECT_TRUE(result.failures.last().contains("link to the robot is down"));
+  EXPECT_EQ(rosi.state(), ScannerDevice::State::kIdle);
+}
+
 TEST_F(RemoteLink, RefusedWithoutCredentials) {
   // A client that does not speak TLS at all: its Hello never reaches the protocol.
   QTcpSocket plain;
