@@ -11,6 +11,9 @@ namespace clearway::hardware::remote {
 namespace {
 
 constexpr int kMaxReconnectDelayMs = 2000;  // retries at most this far apart
+// A robot that calls a scan complete yet keeps lines back is asked again this often, then the scan
+// is kept as partial: the request loop is bounded.
+constexpr int kMaxShortFinishRetries = 3;
 
 QString megabytes(double bytes) {
   return bytes >= 1e6 ? QString("%1 MB").arg(bytes / 1e6, 0, 'f', 2)
@@ -47,6 +50,7 @@ struct RemoteRosi::Private {
   std::uint64_t scan_id = 0;  // 0: none
   std::uint32_t expected = 0;
   std::shared_ptr<Scan> scan;
+  int short_finish_retries = 0;
 
   QString where() const { return QString("%1:%2").arg(options.host).arg(options.port); }
 
@@ -247,6 +251,7 @@ void RemoteRosi::Private::onFrame(const Frame& frame) {
       if (scan_id != 0) return;                // another scan while ours runs: not ours
       scan_id = started.scan_id;
       expected = started.expected_lines;
+      short_finish_retries = 0;
       start_pending = false;
       scan = std::make_shared<Scan>();
       q->setState(State::kScanning);
@@ -314,8 +319,10 @@ void RemoteRosi::Private::onLines(const Lines& lines) {
 
 void RemoteRosi::Private::onFinished(const ScanFinished& finished) {
   if (finished.scan_id != scan_id || !scan) return;
-  if (finished.complete && scan->lines.size() < finished.total_lines) {
+  if (finished.complete && scan->lines.size() < finished.total_lines &&
+      short_finish_retries < kMaxShortFinishRetries) {
     // Cannot happen on one ordered link; ask again rather than call a partial scan complete.
+    ++short_finish_retries;
     send(encode(Resume{scan_id, std::uint32_t(scan->lines.size())}));
     return;
   }
