@@ -119,7 +119,11 @@ void RemoteRosi::doConnect() {
 void RemoteRosi::doDisconnect() {
   d_->user_disconnected = true;
   d_->tick.stop();
+  if (d_->socket && d_->welcomed) d_->socket->flush();  // a Cancel just sent goes out first
   d_->dropSocket();
+  // The lines that arrived are handed over, marked incomplete; the robot saves its own copy.
+  if (d_->scan && !d_->scan->empty())
+    d_->endScan(false, tr("Disconnected during the scan; the robot keeps its copy."));
   d_->scan.reset();
   d_->scan_id = 0;
   d_->start_pending = false;

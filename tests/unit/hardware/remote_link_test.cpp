@@ -241,6 +241,28 @@ TEST_F(RemoteLink, CancelKeepsWhatArrivedOnBothSidesMarkedPartial) {
   EXPECT_EQ(rosi.state(), ScannerDevice::State::kIdle);
 }
 
+TEST_F(RemoteLink, DisconnectingMidScanKeepsWhatArrivedAndTheRobotItsCopy) {
+  device_->setSpeedup(2.0);
+  RemoteRosi rosi(consoleOptions(server_->serverPort()));
+  Result result;
+  collect(rosi, result);
+  QString saved;
+  connect(server_.get(), &RemoteScanServer::scanSaved,
+          [&saved](const QString& path, bool) { saved = path; });
+  int received = 0;
+  connect(&rosi, &RemoteRosi::progress, [&received](int lines, int) { received = lines; });
+  rosi.connectDevice();
+  ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
+  rosi.startScan({kGarageLines, 0.0});
+  ASSERT_TRUE(waitFor([&] { return received >= 40; }));
+  rosi.disconnectDevice();
+  ASSERT_TRUE(result.done);  // handed over at once, marked incomplete
+  EXPECT_FALSE(result.complete);
+  EXPECT_GE(result.scan->lines.size(), 40U);
+  EXPECT_EQ(rosi.state(), ScannerDevice::State::kDisconnected);
+  ASSERT_TRUE(waitFor([&] { return !saved.isEmpty(); }));  // the robot saved its copy
+}
+
 TEST_F(RemoteLink, WhileTheRobotIsGoneTheConsoleSaysSoAndStartsNothing) {
   RemoteRosi rosi(consoleOptions(server_->serverPort()));
   Result result;
