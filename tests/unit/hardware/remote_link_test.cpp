@@ -210,8 +210,8 @@ TEST_F(RemoteLink, OneMegabitLinkTimeFromLastLineToResult) {
     ASSERT_TRUE(waitFor([&] { return result.done; }));
     ASSERT_TRUE(result.complete);
     expectSameScan(*result.scan, simulatorScan(kGarageLines));
-    std::cout << "[ figure ] 1 Mbit/s link, " << kGarageLines << " lines at " << 37.5 * speedup
-              << " lines/s: last line on the robot -> complete scan on the "
+    std::cout << "[ figure ] 1 Mbit/s link, " << kGarageLines << " lines, RoSi at x" << speedup
+              << " real time: last line on the robot -> complete scan on the "
               << "console: " << (result_ms - last_line_ms) << " ms (acquisition took "
               << (last_line_ms - start_ms) << " ms)\n";
     rosi.disconnectDevice();
