@@ -122,6 +122,8 @@ int recover(const std::filesystem::path& journal, const std::filesystem::path& o
 }  // namespace
 
 int runAcquire(const std::vector<std::string>& words) {
+  for (const std::string& word : words)
+    if (word == "--remote" || word.starts_with("--remote=")) return runRemoteAcquire(words);
   const Arguments arguments(words, {},
                             {"lms", "turntable", "arm", "mount", "lines", "speed", "timeout",
                              "baud", "o", "output", "recover"});

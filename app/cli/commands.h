@@ -15,6 +15,8 @@ int runEval(const std::vector<std::string>& words);
 int runSegment(const std::vector<std::string>& words);
 int runEmulate(const std::vector<std::string>& words);
 int runAcquire(const std::vector<std::string>& words);
+int runRemoteAcquire(const std::vector<std::string>& words);  // acquire --remote
+int runServe(const std::vector<std::string>& words);
 int runBench(const std::vector<std::string>& words);
 
 }  // namespace clearway::cli

@@ -40,6 +40,12 @@ constexpr const char* kUsage =
     "          [--lines N] [--speed DEG_S] [--timeout MS] [--baud B] -o SCAN.pcd\n"
     "                                            one RoSi scan from the devices (or the emulator)\n"
     "  acquire --recover SCAN.journal -o SCAN.pcd  the lines a crashed acquisition journaled\n"
+    "  acquire --remote HOST:PORT --credentials DIR [--lines N] [--watch] -o SCAN.pcd\n"
+    "                                            one scan from `serve` on the robot\n"
+    "  serve --credentials DIR --listen HOST:PORT (--simulate SCENE [--speed X] |\n"
+    "        --lms PORT --turntable PORT [--baud B]) [--storage DIR] [--seconds S]\n"
+    "                                            the RoSi on the robot, for remote consoles\n"
+    "  serve --init-credentials DIR              write the robot's and the console's keys\n"
     "  bench SCAN... [--repeat N] [--threads T] [--peers] [--json] [robot and --params options]\n"
     "                                            time the pipeline: per-stage median and p95\n"
     "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
@@ -58,6 +64,7 @@ int main(int argc, char** argv) {
       {"scene", clearway::cli::runScene},     {"eval", clearway::cli::runEval},
       {"segment", clearway::cli::runSegment}, {"emulate", clearway::cli::runEmulate},
       {"acquire", clearway::cli::runAcquire}, {"bench", clearway::cli::runBench},
+      {"serve", clearway::cli::runServe},
   };
   if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
     std::cout << kUsage;

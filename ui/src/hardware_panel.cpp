@@ -22,6 +22,7 @@
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
+#include "remote_scanner_fields.h"
 
 namespace clearway::ui {
 
@@ -30,6 +31,7 @@ using hardware::ScannerDevice;
 namespace {
 constexpr int kSimulatedPage = 0;
 constexpr int kSerialPage = 1;
+constexpr int kRemotePage = 2;  // clearway-cli serve on the robot (docs/PROTOCOL.md)
 }  // namespace
 
 struct HardwarePanel::Private {
@@ -49,6 +51,7 @@ struct HardwarePanel::Private {
   QLabel* status = nullptr;
   QProgressBar* progress = nullptr;
   QLineEdit* lms_port = nullptr;
+  RemoteScannerFields* remote = nullptr;
   QLineEdit* turntable_port = nullptr;
   QComboBox* link_speed = nullptr;
   std::unique_ptr<ScannerDevice> scanner;
@@ -65,6 +68,7 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->device->setObjectName("scannerDevice");
   d_->device->addItem(tr("Simulated RoSi"));
   d_->device->addItem(tr("Serial RoSi (LMS200 + turntable)"));
+  d_->device->addItem(tr("Remote RoSi (clearway-cli serve on the robot)"));
   form->addRow(tr("Device"), d_->device);
   // Each device shows only its own fields: a scene for the simulated RoSi, ports, link speed,
   // arm and mounting for the serial one.
@@ -120,6 +124,8 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   serial_form->addRow(tr("Pose"), d_->arm_pose);
   d_->fields->addWidget(simulated_page);
   d_->fields->addWidget(serial_page);
+  d_->remote = new RemoteScannerFields(d_->fields);
+  d_->fields->addWidget(d_->remote);
   form->addRow(d_->fields);
   const auto showMountingMeaning = [this] {
     const bool arm = !d_->arm_port->text().trimmed().isEmpty();
@@ -187,7 +193,15 @@ void HardwarePanel::setSpeedup(double speedup) {
 
 void HardwarePanel::connectScanner() {
   if (d_->scanner) disconnectScanner();
-  if (d_->device->currentIndex() == kSerialPage) {
+  if (d_->device->currentIndex() == kRemotePage) {
+    QString problem;
+    std::unique_ptr<ScannerDevice> remote = d_->remote->createDevice(&problem);
+    if (!remote) {
+      emit statusChanged(problem);
+      return;
+    }
+    d_->scanner = std::move(remote);
+  } else if (d_->device->currentIndex() == kSerialPage) {
     const QString arm = d_->arm_port->text().trimmed();
     const QString mounting_text = d_->mounting->text().trimmed();
     std::optional<hardware::RigidPose> mounting;

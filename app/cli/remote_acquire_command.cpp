@@ -1,0 +1,103 @@
+// clearway-cli acquire --remote HOST:PORT --credentials DIR: one scan from `clearway-cli serve` on
+// the robot, through the same RemoteRosi the console uses (reconnects and resumes by itself).
+
+#include <QCoreApplication>
+#include <QElapsedTimer>
+#include <iostream>
+
+#include "arguments.h"
+#include "clearway/hardware/remote_rosi.h"
+#include "clearway/io/scan_io.h"
+#include "commands.h"
+#include "host_port.h"
+
+namespace clearway::cli {
+
+using namespace hardware::remote;
+
+int runRemoteAcquire(const std::vector<std::string>& words) {
+  const Arguments arguments(words, {"watch"},
+                            {"remote", "credentials", "lines", "speed", "o", "output", "give-up"});
+  arguments.expectPositional(0,
+                             "clearway-cli acquire --remote HOST:PORT --credentials DIR [--lines "
+                             "N] -o SCAN.pcd");
+  const auto output = arguments.option("o") ? arguments.option("o") : arguments.option("output");
+  const auto credentials_dir = arguments.option("credentials");
+  if (!output || !credentials_dir)
+    throw UsageError("--credentials DIR and -o SCAN.pcd are required with --remote");
+  const auto [host, port] = parseHostPort(*arguments.option("remote"), false);
+
+  RemoteOptions options;
+  options.host = host;
+  options.port = port;
+  options.client_name = "clearway-cli acquire";
+  options.role = arguments.flag("watch") ? Role::kWatch : Role::kControl;
+  options.give_up_after_ms = int(arguments.number("give-up", 120.0, 1.0, 86400.0) * 1000);
+  try {
+    options.credentials = loadConsoleCredentials(QString::fromStdString(*credentials_dir));
+  } catch (const CredentialsError& error) {
+    std::cerr << "clearway-cli acquire: " << error.what() << "\n";
+    return 1;
+  }
+  hardware::ScanRequest request;
+  request.lines = int(arguments.integer("lines", 0, 0, kMaxLinesPerScan));
+  request.turntable_speed_deg_s = arguments.number("speed", 0.0, 0.0, 360.0);
+
+  int argc = 1;
+  char name[] = "clearway-cli";
+  char* argv[] = {name, nullptr};
+  QCoreApplication app(argc, argv);
+  RemoteRosi rosi(options);
+  int exit_code = 1;
+  QString last_failure;
+  QElapsedTimer clock;
+  clock.start();
+  QObject::connect(&rosi, &RemoteRosi::linkStatusChanged, [](const QString& link) {
+    std::cerr << "link: " << link.toStdString() << std::endl;
+  });
+  QObject::connect(&rosi, &RemoteRosi::notice, [](const QString& text) {
+    std::cerr << "robot: " << text.toStdString() << std::endl;
+  });
+  QObject::connect(&rosi, &RemoteRosi::failed, [&](const QString& reason) {
+    last_failure = reason;
+    if (rosi.state() != hardware::ScannerDevice::State::kScanning) app.exit();
+  });
+  QObject::connect(&rosi, &RemoteRosi::stateChanged, [&](hardware::ScannerDevice::State state) {
+    // A watcher waits for the controlling console's scan; a controller starts one.
+    if (state == hardware::ScannerDevice::State::kIdle && rosi.role() == Role::kControl &&
+        clock.isValid()) {
+      clock.invalidate();
+      rosi.startScan(request);
+    }
+  });
+  QObject::connect(
+      &rosi, &RemoteRosi::scanFinished, [&](std::shared_ptr<const Scan> scan, bool complete) {
+        const LinkStatistics stats = rosi.linkStatistics();
+        try {
+          if (complete) {
+            saveRosiPcd(*scan, *output);
+            std::cout << "acquired " << scan->lines.size() << " lines, " << scan->size()
+                      << " points: " << *output << " (" << stats.bytes_received
+                      << " bytes received, " << stats.reconnections << " reconnections, "
+                      << stats.duplicate_lines_dropped << " repeated lines dropped)" << std::endl;
+            exit_code = 0;
+          } else if (!scan->empty()) {
+            std::filesystem::path partial = *output;
+            partial.replace_extension(".partial.pcd");
+            saveRosiPcd(*scan, partial);
+            std::cerr << "clearway-cli acquire: the " << scan->lines.size()
+                      << " lines that arrived are in " << partial.string() << "\n";
+          }
+        } catch (const std::exception& error) {
+          std::cerr << "clearway-cli acquire: " << error.what() << "\n";
+        }
+        app.exit();
+      });
+  rosi.connectDevice();
+  app.exec();
+  if (exit_code != 0 && !last_failure.isEmpty())
+    std::cerr << "clearway-cli acquire: " << last_failure.toStdString() << "\n";
+  return exit_code;
+}
+
+}  // namespace clearway::cli
