@@ -14,6 +14,7 @@
 #include <numbers>
 #include <queue>
 
+#include "../segmentation/parallel.h"
 #include "clearway/traversability/traversability_map.h"
 #include "reachability_search.h"
 
@@ -26,6 +27,9 @@ constexpr double kPi = std::numbers::pi;
 // margin where it can; each turn step costs as much as this much straight driving [m].
 constexpr double kCarefulCostFactor = 3.0;
 constexpr double kTurnCost = 0.05;
+// Rings of the reachability search smaller than this are tested on one thread (handing a few
+// states to the pool costs more than testing them).
+constexpr std::size_t kParallelRing = 64;
 // Offsets of the scanner on the robot tried when no pose places the robot [m].
 constexpr double kMountSearchStep = 0.1;
 // One blocking return inside the box outweighs this many unobserved cells under it.
@@ -141,7 +145,8 @@ std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws) {
   return neighbours;
 }
 
-void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt) {
+void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt,
+                     int threads) {
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();
   map.reach.assign(grid.cells(), 0);
@@ -149,45 +154,61 @@ void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, in
   map.reachable_cells = 0;
   const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
   if (orientations == 0 || map.robot_orientation < 0 || !grid.inside(start.x(), start.y())) return;
-  auto fit = [&](int column, int row, int k) {
-    std::uint8_t& memo = map.pose_fit[grid.index(column, row) * orientations + std::size_t(k)];
-    if (memo == std::uint8_t(PoseFit::kUntested)) memo = std::uint8_t(fitAt(column, row, k));
-    return PoseFit(memo);
-  };
   const std::vector<std::vector<int>> turns = turnNeighbours(map.yaws);
-  std::vector<std::uint8_t> visited(grid.cells() * orientations, 0);
-  struct State {
-    int column, row, k;
+  // Breadth first, one ring of states at a time: the fits of a ring's new states are tested in
+  // parallel (each state once, each into its own memo slot), then the ones that fit are entered.
+  std::vector<std::uint8_t> queued(grid.cells() * orientations, 0);
+  auto stateOf = [&](int column, int row, int k) {
+    return grid.index(column, row) * orientations + std::size_t(k);
   };
-  std::vector<State> frontier;
-  auto visit = [&](int column, int row, int k) {
-    std::uint8_t& seen = visited[grid.index(column, row) * orientations + std::size_t(k)];
-    if (seen) return;
-    if (fit(column, row, k) == PoseFit::kBlocked) return;
-    seen = 1;
-    frontier.push_back({column, row, k});
-    std::uint8_t& reached = map.reach[grid.index(column, row)];
-    if (!reached) {
-      reached = 1;
-      ++map.reachable_cells;
-    }
+  auto fitOf = [&](std::size_t state) {
+    const std::size_t cell = state / orientations;
+    return fitAt(int(cell % std::size_t(grid.width)), int(cell / std::size_t(grid.width)),
+                 int(state % orientations));
   };
+  const std::size_t first = stateOf(start.x(), start.y(), map.robot_orientation);
+  queued[first] = 1;
   // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
   // off its exact position, touch something just outside its box.
-  std::uint8_t& own = map.pose_fit[grid.index(start.x(), start.y()) * orientations +
-                                   std::size_t(map.robot_orientation)];
-  if (fit(start.x(), start.y(), map.robot_orientation) == PoseFit::kBlocked)
-    own = std::uint8_t(PoseFit::kCareful);
-  visit(start.x(), start.y(), map.robot_orientation);
-  while (!frontier.empty()) {
-    const State state = frontier.back();
-    frontier.pop_back();
-    for (int n = 0; n < 8; ++n) {
-      const int column = state.column + kNeighbourColumns[n], row = state.row + kNeighbourRows[n];
-      if (grid.inside(column, row)) visit(column, row, state.k);
+  map.pose_fit[first] = std::uint8_t(fitOf(first));
+  if (map.pose_fit[first] == std::uint8_t(PoseFit::kBlocked))
+    map.pose_fit[first] = std::uint8_t(PoseFit::kCareful);
+  std::vector<std::size_t> ring = {first}, candidates;
+  while (!ring.empty()) {
+    for (const std::size_t state : ring) {
+      const std::size_t cell = state / orientations;
+      if (!map.reach[cell]) {
+        map.reach[cell] = 1;
+        ++map.reachable_cells;
+      }
     }
-    for (int k : turns[std::size_t(state.k)])
-      visit(state.column, state.row, k);
+    candidates.clear();
+    for (const std::size_t state : ring) {
+      const std::size_t cell = state / orientations;
+      const int k = int(state % orientations);
+      const int column = int(cell % std::size_t(grid.width)),
+                row = int(cell / std::size_t(grid.width));
+      auto propose = [&](std::size_t next) {
+        if (queued[next]) return;
+        queued[next] = 1;
+        candidates.push_back(next);
+      };
+      for (int n = 0; n < 8; ++n) {
+        const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
+        if (grid.inside(c, r)) propose(stateOf(c, r, k));
+      }
+      for (int other : turns[std::size_t(k)])
+        propose(cell * orientations + std::size_t(other));
+    }
+    const int workers = candidates.size() >= kParallelRing ? threads : 1;
+    parallelChunks(candidates.size(), workers,
+                   [&](std::size_t begin, std::size_t end, std::size_t) {
+                     for (std::size_t i = begin; i < end; ++i)
+                       map.pose_fit[candidates[i]] = std::uint8_t(fitOf(candidates[i]));
+                   });
+    ring.clear();
+    for (const std::size_t state : candidates)
+      if (map.pose_fit[state] != std::uint8_t(PoseFit::kBlocked)) ring.push_back(state);
   }
 }
 
@@ -234,7 +255,8 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   // cost more than nothing), so the first time the goal leaves the queue its path is cheapest.
   const Eigen::Vector2d goal_centre = grid.centre(goal.x(), goal.y());
   auto remaining = [&](std::size_t cell) {
-    const int column = int(cell % std::size_t(grid.width)), row = int(cell / std::size_t(grid.width));
+    const int column = int(cell % std::size_t(grid.width)),
+              row = int(cell / std::size_t(grid.width));
     return (grid.centre(column, row) - goal_centre).norm();
   };
   cost[first] = 0.0;

@@ -15,7 +15,9 @@ namespace clearway::detail {
 std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws);
 
 // Fills map.reach, map.reachable_cells and map.pose_fit from the robot's pose
-// (map.robot_pose, map.robot_orientation); fitAt(column, row, k) tests one pose.
-void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt);
+// (map.robot_pose, map.robot_orientation); fitAt(column, row, k) tests one pose and is called
+// from `threads` threads at once.
+void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt,
+                     int threads);
 
 }  // namespace clearway::detail

@@ -480,21 +480,24 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
 
   // Where the robot can get from its own pose: the same tests as above, one pose at a time.
   // The label loop above tried every orientation where nothing fits: those cells are settled.
-  detail::searchReachable(map, [&](int column, int row, int k) {
-    const std::size_t cell = map.grid.index(column, row);
-    const auto label = CellLabel(map.labels[cell]);
-    if (label != CellLabel::kTraversable && label != CellLabel::kCareful &&
-        label != CellLabel::kObstacle)
-      return PoseFit::kBlocked;
-    const float free_radius = clearance.at<float>(row, column);
-    if (free_radius > footprints.outer_radius) return PoseFit::kClear;
-    if (free_radius >= footprints.inner_radius + 0.5F && tester.fitsEnlarged(column, row, k))
-      return PoseFit::kClear;
-    if (lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 2.3F &&
-        tester.fitsExactlyInCell(column, row, k))
-      return PoseFit::kCareful;
-    return PoseFit::kBlocked;
-  });
+  detail::searchReachable(
+      map,
+      [&](int column, int row, int k) {
+        const std::size_t cell = map.grid.index(column, row);
+        const auto label = CellLabel(map.labels[cell]);
+        if (label != CellLabel::kTraversable && label != CellLabel::kCareful &&
+            label != CellLabel::kObstacle)
+          return PoseFit::kBlocked;
+        const float free_radius = clearance.at<float>(row, column);
+        if (free_radius > footprints.outer_radius) return PoseFit::kClear;
+        if (free_radius >= footprints.inner_radius + 0.5F && tester.fitsEnlarged(column, row, k))
+          return PoseFit::kClear;
+        if (lenient_clearance.at<float>(row, column) >= footprints.inner_radius - 2.3F &&
+            tester.fitsExactlyInCell(column, row, k))
+          return PoseFit::kCareful;
+        return PoseFit::kBlocked;
+      },
+      threads);
   for (std::size_t cell = 0; cell < cells; ++cell) {
     const auto label = CellLabel(map.labels[cell]);
     const bool fits = label == CellLabel::kTraversable || label == CellLabel::kCareful ||
