@@ -99,12 +99,12 @@ std::optional<sim::GroundTruth> truthFor(const std::filesystem::path& file, cons
 }
 
 BenchFigures benchScan(const std::filesystem::path& file, const SegmentationParams& params,
-                       int repeat, int threads, bool with_peers) {
+                       int repeat, int threads, bool with_peers, const LoadOptions& load) {
   BenchFigures figures;
   figures.scan = file.string();
   figures.repeat = repeat;
   figures.threads = threads;
-  const Scan scan = loadScan(file);
+  const Scan scan = loadScan(file, load);
   figures.points = scan.size();
   const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
   figures.trusted = warm_up.trusted();
@@ -201,17 +201,21 @@ void printTable(const BenchFigures& figures) {
 
 int runBench(const std::vector<std::string>& words) {
   const Arguments arguments(words, {"json", "peers"},
-                            withRobotOptions({"repeat", "threads", "params"}));
+                            withRobotOptions({"repeat", "threads", "params", "rings"}));
   if (arguments.positional().empty())
     throw UsageError(
-        "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers]");
+        "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers] "
+        "[--rings N]");
   const int repeat = int(arguments.integer("repeat", 20, 1, 100000));
   const int threads = int(arguments.integer("threads", 2, 1, 64));
   const SegmentationParams params = paramsFromArguments(arguments);
+  LoadOptions load;
+  load.rings = std::size_t(arguments.integer("rings", 0, 0, kMaxRings));
 
   nlohmann::json all = nlohmann::json::array();
   for (const std::string& file : arguments.positional()) {
-    const BenchFigures figures = benchScan(file, params, repeat, threads, arguments.flag("peers"));
+    const BenchFigures figures =
+        benchScan(file, params, repeat, threads, arguments.flag("peers"), load);
     if (arguments.flag("json"))
       all.push_back(toJson(figures));
     else

@@ -11,8 +11,8 @@
 namespace clearway::cli {
 
 int runSegment(const std::vector<std::string>& words) {
-  const Arguments arguments(words, {"quiet"},
-                            withRobotOptions({"o", "output", "params", "threads", "method"}));
+  const Arguments arguments(
+      words, {"quiet"}, withRobotOptions({"o", "output", "params", "threads", "method", "rings"}));
   arguments.expectPositional(1, "one scan: clearway-cli segment SCAN -o DIR [options]");
   const auto output = arguments.option("o") ? arguments.option("o") : arguments.option("output");
   if (!output) throw UsageError("-o DIR is required");
@@ -20,7 +20,9 @@ int runSegment(const std::vector<std::string>& words) {
   const int threads = int(arguments.integer("threads", 2, 1, 64));
 
   const std::filesystem::path scan_file = arguments.positional()[0];
-  const Scan scan = loadScan(scan_file);
+  LoadOptions load;
+  load.rings = std::size_t(arguments.integer("rings", 0, 0, kMaxRings));
+  const Scan scan = loadScan(scan_file, load);
   const PipelineResult result = runPipeline(scan, params, threads);
   writeResultFolder(result, params, scan_file.filename().string(), *output);
   if (!arguments.flag("quiet")) {

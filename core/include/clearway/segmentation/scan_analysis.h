@@ -14,6 +14,7 @@
 #include "clearway/segmentation/line_segments.h"
 #include "clearway/segmentation/params.h"
 #include "clearway/segmentation/planes.h"
+#include "clearway/sensor_geometry.h"
 
 namespace clearway {
 
@@ -58,6 +59,10 @@ struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
   std::vector<float> ground_height;        // per cell: that plane's map z at the cell centre
+  // Per ground cell: the widest obstacle that could stand between the sensor's samples there
+  // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
+  // robot's step (docs/ALGORITHM.md, "Sparse scans never lie").
+  std::vector<float> ground_spacing;
   std::vector<MapObstacle> obstacles;
   std::vector<GroundContact> contacts;
   std::vector<std::array<std::uint32_t, 3>> ground_triangles;  // scan point indices
@@ -71,6 +76,7 @@ struct StageTiming {
 struct ScanAnalysis {
   std::size_t scan_points = 0;
   std::size_t valid_points = 0;
+  SensorGeometry sensor;  // kind, angular steps, whether the lines close a full turn
   std::vector<LineSegment> segments;
   std::size_t candidate_planes = 0;
   ValidatedPlanes planes;                         // kinds are set: ground / wall / ceiling / other
