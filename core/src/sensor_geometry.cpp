@@ -35,6 +35,9 @@ constexpr double kClosingStepFactor = 2.5;
 // the turn still closes over [rad]; the density check keeps the wedge from showing green.
 constexpr double kLargestSeamGap = 15.0 * kPi / 180.0;
 // A full turn's steps sum to 360 deg within this much (the closing step included) [rad].
+// The lowest a sensor is taken to be above the ground it sees (files with their origin on the
+// floor still had the beams start somewhere above it) [m].
+constexpr double kLowestBeamHeight = 0.05;
 constexpr double kTurnTolerance = 20.0 * kPi / 180.0;
 
 struct LineShape {
@@ -190,17 +193,43 @@ double expectedGroundSpacing(const SensorGeometry& sensor, double range, double 
   return std::max(slant_squared / height * radial_step, range * tangential_step);
 }
 
-double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point) {
+double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point,
+                          const Eigen::Vector3d& up, double height) {
   if (sensor.kind == SensorKind::kUnknown || sensor.along_line_step <= 0.0 ||
       sensor.between_line_step <= 0.0)
     return std::numeric_limits<double>::infinity();
   const double range = point.norm();
+  if (range <= 0.0) return 0.0;
   // The sweep's axis is the frame's z: the turntable axis of a RoSi file, the spin axis of a
-  // multi-beam head.
+  // multi-beam head. Across the sweep, neighbouring beams are this far apart, unprotected.
   const double from_axis = point.head<2>().norm();
-  if (sensor.kind == SensorKind::kMultiBeam)
-    return std::max(from_axis * sensor.along_line_step, 2.0 * range * sensor.between_line_step);
-  return std::max(from_axis * sensor.between_line_step, 2.0 * range * sensor.along_line_step);
+  const double across_step =
+      sensor.kind == SensorKind::kMultiBeam ? sensor.along_line_step : sensor.between_line_step;
+  const double within_step =
+      sensor.kind == SensorKind::kMultiBeam ? sensor.between_line_step : sensor.along_line_step;
+  const double across = from_axis * across_step;
+  // Within a fan (the beams of one line, or one ring to the next), the step moves the ground
+  // sample by d(hit)/d(angle) x step. Its part along the beam's horizontal direction is protected
+  // by the farther beam (worth 2 x range x step); its part sideways is not.
+  const Eigen::Vector3d u = point / range;
+  const double elevation = std::asin(std::clamp(u.z(), -1.0, 1.0));
+  const double azimuth = std::atan2(u.y(), u.x());
+  const Eigen::Vector3d du(-std::sin(elevation) * std::cos(azimuth),
+                           -std::sin(elevation) * std::sin(azimuth), std::cos(elevation));
+  const double facing = up.dot(u);  // negative: the beam goes down to the ground
+  const double drop = std::max(height, kLowestBeamHeight);
+  if (facing > -1e-3) return std::numeric_limits<double>::infinity();  // grazing or upward
+  const double t = -drop / facing;
+  const double dt = drop * up.dot(du) / (facing * facing);
+  Eigen::Vector3d move = (t * du + dt * u) * within_step;
+  move -= move.dot(up) * up;
+  Eigen::Vector3d beam = u - facing * up;
+  if (beam.norm() < 1e-6) return std::max(across, move.norm());
+  beam.normalize();
+  const double radial = std::abs(move.dot(beam));
+  const double sideways = (move - move.dot(beam) * beam).norm();
+  const double within = std::max(sideways, std::min(radial, 2.0 * range * within_step));
+  return std::max(across, within);
 }
 
 }  // namespace clearway

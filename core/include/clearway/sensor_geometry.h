@@ -49,14 +49,16 @@ SensorGeometry describeSensor(const Scan& scan);
 // at or below the ground.
 double expectedGroundSpacing(const SensorGeometry& sensor, double range, double height);
 
-// How wide an obstacle could stand on the ground at `point` (scanner frame) between the sensor's
-// samples without any beam touching it [m]. Across the direction the sensor sweeps (a rotating
-// scanner's turntable, a ring's azimuth) neighbouring beams are `distance from the sweep's axis x
-// step` apart, and nothing between them is seen, however tall. Along a fan (a RoSi line) or across
-// rings the farther beam passes over the gap at most `gap x height / range` high, so an obstacle is
-// missed only while lower than that: the gap counts as `2 x range x step`, the gap whose far beam
-// clears an obstacle half the gap's width high. A cell is vouched for where this is at most twice
-// the robot's step. Infinity when unknown.
-double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point);
+// How wide an obstacle could stand on the ground at `point` (scanner frame; `up` is gravity's up
+// in that frame, the sensor `height` above that ground) between the sensor's samples without any
+// beam touching it [m]. Across the direction the sensor sweeps (a rotating scanner's turntable, a
+// ring's azimuth) neighbouring beams are `distance from the sweep's axis x step` apart, and
+// nothing between them is seen, however tall. Within a fan (a RoSi line) or from ring to ring,
+// the step moves the ground sample; the part of that move along the beam is protected, since the
+// farther beam passes over the gap at most `gap x height / range` high and so hits an obstacle
+// half the gap's width high (it counts as `2 x range x step`); the part sideways is not. A cell is
+// vouched for where this is at most twice the robot's step. Infinity when unknown.
+double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point,
+                          const Eigen::Vector3d& up, double height);
 
 }  // namespace clearway

@@ -147,10 +147,6 @@ struct EdgeLimit {
 // differ by at most this much [m] (half the smallest step a robot is told about).
 constexpr float kLargestSeamStep = 0.05F;
 
-// The lowest the scanner is taken to be above the ground when the beams' grazing is worked out:
-// files with their origin on the floor still had the beams start somewhere above it [m].
-constexpr double kLowestBeamHeight = 0.05;
-
 // Elevation angles tell the beams of a fan apart on the ground only from this high above it [m].
 constexpr double kElevationHeight = 0.5;
 
@@ -440,8 +436,9 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
       if (inputs.ground_plane[cell] < 0) continue;
       const Eigen::Vector2d centre = grid.centre(column, row);
       const Eigen::Vector3d ground(centre.x(), centre.y(), inputs.ground_height[cell]);
-      inputs.ground_spacing[cell] =
-          float(hiddenObstacleSize(analysis.sensor, scanner_from_map * ground));
+      inputs.ground_spacing[cell] = float(
+          hiddenObstacleSize(analysis.sensor, scanner_from_map * ground, analysis.up,
+                             map_from_scanner.translation().z() - inputs.ground_height[cell]));
     }
 
   // Every other point, with its height above the ground beneath it (two halves in parallel).

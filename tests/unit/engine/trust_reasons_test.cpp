@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -69,13 +70,31 @@ TEST(NoGroundReason, TooFewPointsSaysSo) {
   EXPECT_NE(result.analysis.reason.find("too sparse"), std::string::npos) << result.analysis.reason;
 }
 
-TEST(SparseScan, TwentyLinesShowNothingGreenAndSaySo) {
-  const auto run = test::simulateAndSegment("garage", 20);
+TEST(SparseScan, FewLinesShowOrangeWithTheReasonTooSparse) {
+  // At 40 lines (9 deg between lines) a 0.1 m step is vouched for only near the turntable axis.
+  const auto run = test::simulateAndSegment("hallway", 40);
+  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  std::size_t sparse = 0;
+  for (std::size_t cell = 0; cell < run.result.map.labels.size(); ++cell)
+    if (run.result.map.reasons[cell] == std::uint8_t(CellReason::kSparse)) {
+      ++sparse;
+      EXPECT_EQ(run.result.map.labels[cell], std::uint8_t(CellLabel::kObstacle));
+    }
+  EXPECT_GT(sparse, 100u);
+  // At 423 lines the same hallway is vouched for everywhere.
+  const auto dense = test::simulateAndSegment("hallway", 423);
+  EXPECT_EQ(std::count(dense.result.map.reasons.begin(), dense.result.map.reasons.end(),
+                       std::uint8_t(CellReason::kSparse)),
+            0);
+}
+
+TEST(SparseScan, NothingVouchedForSaysTooSparse) {
+  // A robot that takes no step worth the name (2 cm): no sample spacing vouches for any cell.
+  SegmentationParams params;
+  params.robot.max_step = 0.02;
+  const auto run = test::simulateAndSegment("garage", 80, params);
   ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
   EXPECT_EQ(run.result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
-  const auto sparse = std::count(run.result.map.reasons.begin(), run.result.map.reasons.end(),
-                                 std::uint8_t(CellReason::kSparse));
-  EXPECT_GT(sparse, 100);
   EXPECT_NE(run.result.analysis.reason.find("too sparse"), std::string::npos)
       << run.result.analysis.reason;
 }
