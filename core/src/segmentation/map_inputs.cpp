@@ -219,22 +219,22 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   return triangles;
 }
 
-// The local ground beside a cell that has none (a wall's foot, a trunk): the mean height of the
-// ground cells within kLocalGroundReach, if any.
+// The local ground beside a cell that has none (a wall's foot, a trunk): the lowest ground cell
+// within kLocalGroundReach, if any (lowest: an obstacle is never measured as lower than it is).
 std::optional<double> groundAround(const MapInputs& inputs, const Eigen::Vector2i& cell) {
   constexpr int kLocalGroundReach = 3;  // cells (0.15 m at the default resolution)
-  double sum = 0.0;
-  int count = 0;
+  double lowest = std::numeric_limits<double>::max();
+  bool any = false;
   for (int dr = -kLocalGroundReach; dr <= kLocalGroundReach; ++dr)
     for (int dc = -kLocalGroundReach; dc <= kLocalGroundReach; ++dc) {
       if (!inputs.grid.inside(cell.x() + dc, cell.y() + dr)) continue;
       const std::size_t next = inputs.grid.index(cell.x() + dc, cell.y() + dr);
       if (inputs.ground_plane[next] < 0) continue;
-      sum += inputs.ground_height[next];
-      ++count;
+      lowest = std::min(lowest, double(inputs.ground_height[next]));
+      any = true;
     }
-  if (count == 0) return std::nullopt;
-  return sum / count;
+  if (!any) return std::nullopt;
+  return lowest;
 }
 
 }  // namespace
@@ -305,19 +305,20 @@ void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAn
 
   // Cells holding ground points, then the cells the ground triangles cover.
   {
-    std::vector<float> sum(grid.cells(), 0.0F);
-    std::vector<std::uint32_t> count(grid.cells(), 0);
+    // The lowest of the cell's ground points: the support band also takes in the foot of a low
+    // obstacle, which must not raise the ground it is measured against.
+    std::vector<float> lowest(grid.cells(), std::numeric_limits<float>::max());
     for (std::size_t i = 0; i < scan.size(); ++i) {
       if (ground_of[i] < 0) continue;
       markGround(cell_of[i].x(), cell_of[i].y(), ground_of[i], 0.0F);
       if (!grid.inside(cell_of[i].x(), cell_of[i].y())) continue;
       const std::size_t cell = grid.index(cell_of[i].x(), cell_of[i].y());
       if (inputs.ground_plane[cell] != ground_of[i]) continue;
-      sum[cell] += mapped[i].z();
-      ++count[cell];
+      lowest[cell] = std::min(lowest[cell], mapped[i].z());
     }
     for (std::size_t cell = 0; cell < grid.cells(); ++cell)
-      if (count[cell] > 0) inputs.ground_height[cell] = sum[cell] / float(count[cell]);
+      if (lowest[cell] < std::numeric_limits<float>::max())
+        inputs.ground_height[cell] = lowest[cell];
   }
   const EdgeLimit limit{mapped, analysis.sensor, params.map.max_triangle_edge,
                         std::max(kLowestScannerHeight, map_from_scanner.translation().z())};
