@@ -112,7 +112,8 @@ void reconstructScanLines(Scan& scan, double break_angle_rad) {
   for (std::size_t k = 1; k < valid_indices.size(); ++k) {
     const double step = steps[k - 1] * forward;
     swept += step;
-    const bool full_turn = !along_elevation && swept >= kFullTurn;
+    // Half a step short of the turn: the next ring starts where this one did.
+    const bool full_turn = !along_elevation && swept >= kFullTurn - 0.5 * std::abs(typical_step);
     const bool jumps_back = step < -break_angle_rad || std::abs(step) > kHalfTurnJump || full_turn;
     if (!jumps_back) continue;
     swept = 0.0;
