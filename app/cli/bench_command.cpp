@@ -246,7 +246,8 @@ int runBench(const std::vector<std::string>& words) {
                             withPoseOptions(withRobotOptions({"repeat", "threads", "params"})));
   if (arguments.positional().empty())
     throw UsageError(
-        "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers]");
+        "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers] "
+        "[--rings N]");
   const int repeat = int(arguments.integer("repeat", 20, 1, 100000));
   const int threads = int(arguments.integer("threads", 2, 1, 64));
   const SegmentationParams params = paramsFromArguments(arguments);

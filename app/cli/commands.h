@@ -8,6 +8,9 @@
 
 namespace clearway::cli {
 
+// `--rings N` (info, segment, bench): the most beams a multi-beam LiDAR has (Ouster: 128).
+inline constexpr long kMaxRings = 512;
+
 int runInfo(const std::vector<std::string>& words);
 int runSimulate(const std::vector<std::string>& words);
 int runScene(const std::vector<std::string>& words);

@@ -3,11 +3,12 @@
 #include <stdexcept>
 
 #include "clearway/io/scan_io.h"
+#include "commands.h"
 
 namespace clearway::cli {
 
 std::set<std::string> withPoseOptions(std::set<std::string> options) {
-  options.insert({"pose", "up", "self-hit-radius"});
+  options.insert({"pose", "up", "self-hit-radius", "rings"});
   return options;
 }
 
@@ -32,6 +33,7 @@ LoadedScan loadScanWithPose(const std::filesystem::path& file, const Arguments& 
   }
   LoadOptions options;
   options.self_hit_radius = params.scan.self_hit_radius;
+  options.rings = std::size_t(arguments.integer("rings", 0, 0, kMaxRings));
   LoadedScan loaded{loadScan(file, options), {}};
   loaded.pose = resolveScanPose(loaded.scan, request);
   return loaded;

@@ -1,7 +1,8 @@
 #pragma once
 
-// Command-line options that say where the scanner was (--pose, --up, --self-hit-radius), and the
-// one way every command loads a scan with them: core's resolveScanPose (pose.h).
+// Command-line options that say how to read a scan (--self-hit-radius, --rings) and where the
+// scanner was (--pose, --up), and the one way every command loads a scan with them: core's
+// loadScan and resolveScanPose (pose.h).
 
 #include <filesystem>
 #include <set>

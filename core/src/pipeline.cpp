@@ -1,6 +1,8 @@
 #include "clearway/pipeline.h"
 
+#include <algorithm>
 #include <chrono>
+#include <sstream>
 #include <stdexcept>
 
 namespace clearway {
@@ -14,6 +16,20 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
 void checkParams(const SegmentationParams& params) {
   if (const auto reasons = params.validate(); !reasons.empty())
     throw std::invalid_argument("invalid parameters: " + reasons.front());
+}
+
+// A scan whose ground is everywhere too sparse to show anything green says so: nothing is wrong
+// with the ground found, but no cell can be vouched for.
+void noteTooSparse(const TraversabilityMap& map, const RobotParams& robot, ScanAnalysis& analysis) {
+  if (!analysis.ground_found || map.counts[std::size_t(CellLabel::kTraversable)] > 0) return;
+  const auto sparse =
+      std::count(map.reasons.begin(), map.reasons.end(), std::uint8_t(CellReason::kSparse));
+  if (sparse == 0) return;
+  std::ostringstream reason;
+  reason << "scan too sparse to show anything traversable: on " << sparse
+         << " cells the ground samples are so far apart that an obstacle taller than the step ("
+         << robot.max_step << " m) could hide between them (scan with more lines)";
+  analysis.reason = reason.str();
 }
 
 }  // namespace
@@ -58,6 +74,7 @@ PipelineResult rerunForRobot(const Scan& scan, ScanAnalysis analysis,
   auto start = std::chrono::steady_clock::now();
   result.map = computeTraversability(analysis, params.robot, params.map, threads, progress);
   result.timings.push_back({"traversability", millisecondsSince(start)});
+  noteTooSparse(result.map, params.robot, analysis);
   start = std::chrono::steady_clock::now();
   result.scene = buildSceneGeometry(scan, analysis, result.map, params.robot);
   result.point_classes = classifyPoints(scan, analysis, params.robot);

@@ -1,6 +1,7 @@
 #include "clearway/scan_summary.h"
 
 #include "clearway/pose.h"
+#include "clearway/sensor_geometry.h"
 
 #include <algorithm>
 #include <cmath>
@@ -46,6 +47,12 @@ ScanSummary summarise(const Scan& scan) {
   summary.pose_source = scan.pose_source == PoseSource::kNone && scan.sensor_pose
                             ? "file"
                             : std::string(poseSourceName(scan.pose_source));
+  const SensorGeometry sensor = describeSensor(scan);
+  summary.sensor = std::string(sensorKindName(sensor.kind));
+  summary.rings = sensor.kind == SensorKind::kMultiBeam ? sensor.lines : 0;
+  summary.closed_turn = sensor.closed_turn;
+  summary.along_line_step_deg = sensor.along_line_step * 180.0 / M_PI;
+  summary.between_line_step_deg = sensor.between_line_step * 180.0 / M_PI;
   return summary;
 }
 
@@ -66,7 +73,13 @@ std::string toText(const ScanSummary& s) {
       << '\n'
       << "organised:       " << (s.organised ? "yes" : "no") << '\n'
       << "intensity:       " << (s.has_intensity ? "yes" : "no") << '\n'
-      << "turntable angle: " << (s.has_beta ? "per line" : "unknown") << '\n';
+      << "turntable angle: " << (s.has_beta ? "per line" : "unknown") << '\n'
+      << "sensor:          " << s.sensor;
+  if (s.sensor == "multi-beam") out << ", rings: " << s.rings;
+  if (s.closed_turn) out << ", full turn";
+  out << " (steps: " << s.along_line_step_deg << " deg along a line, " << s.between_line_step_deg
+      << " deg between lines)";
+  out << '\n';
   if (!s.bounds.empty())
     out << "bounds [m]:      x " << s.bounds.min.x << " .. " << s.bounds.max.x << ", y "
         << s.bounds.min.y << " .. " << s.bounds.max.y << ", z " << s.bounds.min.z << " .. "
@@ -96,6 +109,11 @@ std::string toJson(const ScanSummary& s) {
   json["organised"] = s.organised;
   json["has_intensity"] = s.has_intensity;
   json["has_beta"] = s.has_beta;
+  json["sensor"] = s.sensor;
+  if (s.sensor == "multi-beam") json["rings"] = s.rings;
+  json["closed_turn"] = s.closed_turn;
+  json["along_line_step_deg"] = s.along_line_step_deg;
+  json["between_line_step_deg"] = s.between_line_step_deg;
   if (!s.bounds.empty())
     json["bounds"] = {{"min", {s.bounds.min.x, s.bounds.min.y, s.bounds.min.z}},
                       {"max", {s.bounds.max.x, s.bounds.max.y, s.bounds.max.z}}};

@@ -29,6 +29,11 @@ struct ScanSummary {
   std::optional<SensorPose> sensor_pose;
   std::string pose_source = "none";  // what resolveScanPose chose (pose.h)
   std::string pose_detail;
+  std::string sensor;                // "rotating 2D", "multi-beam" or "unknown" (sensor_geometry.h)
+  std::size_t rings = 0;             // multi-beam: the rings (its scan lines)
+  bool closed_turn = false;          // rotating 2D: the lines go once around (last meets first)
+  double along_line_step_deg = 0.0;  // median angle between returns of a line
+  double between_line_step_deg = 0.0;  // median angle between neighbouring lines
 };
 
 ScanSummary summarise(const Scan& scan);

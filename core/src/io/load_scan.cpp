@@ -98,6 +98,7 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
                               " are no-returns or self hits");
   if (scan.lines.empty())
     reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
+  if (options.rings > 0 && scan.lines.size() != options.rings) recoverRings(scan, options.rings);
   checkScanInvariants(scan);
   reportProgress(options.progress, 1.0);
   return scan;

@@ -10,6 +10,7 @@
 #include <limits>
 
 #include "clearway/io/file_util.h"
+#include "clearway/io/scan_lines.h"
 #include "pcd_header.h"
 #include "readers.h"
 
@@ -113,6 +114,13 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
     if (alpha) scan.alpha[i] = readAsFloat(record, *alpha, 0);
   }
 
+  // Multi-beam drivers (Velodyne, Ouster) tag each point with its beam: one line per ring.
+  if (const pcl::PCLPointField* ring = findField(cloud, {"ring"}); ring && cloud.height <= 1) {
+    std::vector<int> ring_of(count);
+    for (std::size_t i = 0; i < count; ++i)
+      ring_of[i] = int(readAsFloat(cloud.data.data() + i * cloud.point_step, *ring, 0));
+    groupIntoRings(scan, ring_of);
+  }
   if (cloud.height > 1) {
     // Organised: one row per scan line, as the RoSi writes it.
     for (std::size_t row = 0; row < cloud.height; ++row) {

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
+#include <type_traits>
 #include <vector>
 
 namespace clearway {
@@ -37,6 +39,24 @@ double median(std::vector<double> values) {
 
 // A step is "normal" along a line; a jump this large in any direction is never within one line.
 constexpr double kHalfTurnJump = 150.0 * kPi / 180.0;
+// One turn of the azimuth: no line of any sensor sweeps more.
+constexpr double kFullTurn = 2.0 * kPi;
+
+// Puts the points in `order` (a permutation) and keeps status, intensity and alpha with them.
+void reorderPoints(Scan& scan, const std::vector<std::size_t>& order) {
+  auto apply = [&](auto& values) {
+    if (values.empty()) return;
+    std::remove_reference_t<decltype(values)> sorted;
+    sorted.reserve(values.size());
+    for (std::size_t i : order)
+      sorted.push_back(values[i]);
+    values = std::move(sorted);
+  };
+  apply(scan.points);
+  apply(scan.status);
+  apply(scan.intensity);
+  apply(scan.alpha);
+}
 
 }  // namespace
 
@@ -86,10 +106,17 @@ void reconstructScanLines(Scan& scan, double break_angle_rad) {
   const double forward = typical_step > 0.0 ? 1.0 : -1.0;
 
   std::size_t line_start = 0;
+  // Azimuth swept since the line began: a multi-beam ring (KITTI keeps ring after ring) ends where
+  // the azimuth has gone once around, with no jump back to see, since the wrap is a small step.
+  double swept = 0.0;
   for (std::size_t k = 1; k < valid_indices.size(); ++k) {
     const double step = steps[k - 1] * forward;
-    const bool jumps_back = step < -break_angle_rad || std::abs(step) > kHalfTurnJump;
+    swept += step;
+    // Half a step short of the turn: the next ring starts where this one did.
+    const bool full_turn = !along_elevation && swept >= kFullTurn - 0.5 * std::abs(typical_step);
+    const bool jumps_back = step < -break_angle_rad || std::abs(step) > kHalfTurnJump || full_turn;
     if (!jumps_back) continue;
+    swept = 0.0;
     // No-returns between the two points cannot tell which line they belong to; they open the
     // new line, as scanners that report every beam start a line with the first beam.
     const std::size_t split = std::max(valid_indices[k - 1] + 1, line_start + 1);
@@ -97,6 +124,87 @@ void reconstructScanLines(Scan& scan, double break_angle_rad) {
     line_start = split;
   }
   scan.lines.push_back({line_start, scan.size() - line_start});
+}
+
+void groupIntoRings(Scan& scan, const std::vector<int>& ring_of) {
+  if (ring_of.size() != scan.size() || scan.empty()) return;
+  std::vector<std::size_t> order(scan.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  // Stable: a driver writes each ring in azimuth order, which is kept.
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return ring_of[a] < ring_of[b]; });
+  std::vector<int> rings_sorted(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    rings_sorted[k] = ring_of[order[k]];
+  reorderPoints(scan, order);
+  scan.lines.clear();
+  std::size_t start = 0;
+  for (std::size_t k = 1; k <= rings_sorted.size(); ++k)
+    if (k == rings_sorted.size() || rings_sorted[k] != rings_sorted[start]) {
+      scan.lines.push_back({start, k - start});
+      start = k;
+    }
+}
+
+void recoverRings(Scan& scan, std::size_t rings) {
+  if (rings == 0 || scan.empty()) return;
+  // Elevation and azimuth of each point with a direction; no-returns go to the ring before them.
+  std::vector<double> elevation(scan.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> azimuth(scan.size(), 0.0);
+  std::vector<double> sorted;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Point3f& p = scan.points[i];
+    const double horizontal = std::hypot(double(p.x), double(p.y));
+    if (scan.status[i] == PointStatus::kNoReturn || horizontal + std::abs(p.z) <= 1e-6) continue;
+    elevation[i] = std::atan2(double(p.z), horizontal);
+    azimuth[i] = std::atan2(double(p.y), double(p.x));
+    sorted.push_back(elevation[i]);
+  }
+  if (sorted.size() < rings) return;
+  std::sort(sorted.begin(), sorted.end());
+  // The rings are the clusters of elevation: cut at the rings - 1 widest gaps.
+  std::vector<std::size_t> gap_order(sorted.size() - 1);
+  for (std::size_t k = 0; k < gap_order.size(); ++k)
+    gap_order[k] = k;
+  const std::size_t cuts = std::min(rings - 1, gap_order.size());
+  std::partial_sort(gap_order.begin(), gap_order.begin() + std::ptrdiff_t(cuts), gap_order.end(),
+                    [&](std::size_t a, std::size_t b) {
+                      return sorted[a + 1] - sorted[a] > sorted[b + 1] - sorted[b];
+                    });
+  std::vector<double> bounds;  // elevation midway across each cut
+  for (std::size_t k = 0; k < cuts; ++k)
+    bounds.push_back(0.5 * (sorted[gap_order[k]] + sorted[gap_order[k] + 1]));
+  std::sort(bounds.begin(), bounds.end());
+  std::vector<int> ring_of(scan.size(), 0);
+  int last_ring = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (std::isnan(elevation[i])) {
+      ring_of[i] = last_ring;
+      continue;
+    }
+    last_ring = int(std::upper_bound(bounds.begin(), bounds.end(), elevation[i]) - bounds.begin());
+    ring_of[i] = last_ring;
+  }
+  // Within a ring, points go in azimuth order (a ring is one turn of the head).
+  std::vector<std::size_t> order(scan.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (ring_of[a] != ring_of[b]) return ring_of[a] < ring_of[b];
+    return azimuth[a] < azimuth[b];
+  });
+  std::vector<int> sorted_rings(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    sorted_rings[k] = ring_of[order[k]];
+  reorderPoints(scan, order);
+  scan.lines.clear();
+  std::size_t start = 0;
+  for (std::size_t k = 1; k <= sorted_rings.size(); ++k)
+    if (k == sorted_rings.size() || sorted_rings[k] != sorted_rings[start]) {
+      scan.lines.push_back({start, k - start});
+      start = k;
+    }
 }
 
 std::size_t markSaturatedRange(Scan& scan, double min_fraction) {

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "clearway/segmentation/scan_analysis.h"
 
@@ -17,6 +18,30 @@ Eigen::Vector3d upDirection(const Scan& scan) {
   // Row 2 of world_from_scanner is world z expressed in the scanner frame.
   return Eigen::Vector3d(r[6], r[7], r[8]).normalized();
 }
+
+// Why no ground was found, from what the earlier stages saw: the cause, then what to do.
+std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& params) {
+  const std::string slope = std::to_string(int(params.max_slope_deg)) + " deg";
+  if (analysis.sensor.lines < 2)
+    return "no ground plane found: the scan has one scan line, and planes need neighbouring "
+           "lines (a multi-beam frame? give its rings with --rings N)";
+  if (analysis.planes.planes.empty())
+    return "no ground plane found: no plane in the scan (" +
+           std::to_string(analysis.segments.size()) + " line segments, " +
+           std::to_string(analysis.candidate_planes) +
+           " candidate planes, none with enough supported area: too few points on any surface?)";
+  bool flat_above = false;
+  for (const Plane& plane : analysis.planes.planes)
+    flat_above = flat_above || plane.kind == PlaneKind::kCeiling;
+  if (flat_above)
+    return "no ground plane found: the only planes flatter than " + slope +
+           " are above the scanner (a ceiling); the floor is out of view (point the scanner "
+           "down or move the arm and scan again)";
+  return "no ground plane found: no plane flatter than " + slope + " (" +
+         std::to_string(analysis.planes.planes.size()) +
+         " planes, all walls; is the floor out of view? move the robot or the arm and scan again)";
+}
+
 
 void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
   const double cos_max_slope = std::cos(params.max_slope_deg * std::numbers::pi / 180.0);
@@ -44,10 +69,7 @@ void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
   }
   analysis.ground_found = analysis.reference_ground >= 0;
   if (!analysis.ground_found) {
-    analysis.reason =
-        "no ground plane found: no validated plane below the scanner is flatter than " +
-        std::to_string(int(params.max_slope_deg)) +
-        " deg (is the floor out of view? move the robot or the arm and scan again)";
+    analysis.reason = noGroundReason(analysis, params);
     return;
   }
   std::stable_partition(analysis.ground_planes.begin(), analysis.ground_planes.end(),

@@ -27,10 +27,28 @@ double segmentDistance(const LineSegment& a, const LineSegment& b) {
                    pointToSegment(b.end, a)});
 }
 
+// Multi-beam rings `lines` apart meet ground below the sensor range^2 / height x step apart: the
+// extra distance allowed between two segments there (0 for other sensors, or above the sensor).
+double ringGap(const LineSegment& a, const LineSegment& b, const LineNeighbourhood& around,
+               int lines) {
+  if (around.ring_step <= 0.0) return 0.0;
+  // Below this height difference the surface is not ground seen from above [m].
+  constexpr double kLowestHeight = 0.3;
+  // However far, rings of one surface are not farther apart than this [m].
+  constexpr double kLongestGap = 3.0;
+  const Eigen::Vector3f up = around.up.cast<float>();
+  const double height =
+      -std::max(up.dot(a.start + a.end), up.dot(b.start + b.end)) / 2.0;  // sensor above both
+  if (height < kLowestHeight) return 0.0;
+  const double range = std::max(a.range, b.range);
+  return std::min(kLongestGap, range * range / height * around.ring_step * lines);
+}
+
 // Segments of neighbouring lines that look alike: nearly parallel and close.
 std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<LineSegment>& segments,
                                                           std::size_t line_count,
-                                                          const ClusterParams& params) {
+                                                          const ClusterParams& params,
+                                                          const LineNeighbourhood& around) {
   std::vector<std::size_t> line_begin(line_count + 1, segments.size());
   for (std::size_t i = segments.size(); i-- > 0;)
     line_begin[segments[i].line] = i;
@@ -42,15 +60,17 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
   for (std::size_t i = 0; i < segments.size(); ++i) {
     const LineSegment& a = segments[i];
     for (int step = 1; step <= params.neighbour_lines; ++step) {
-      // Wrap around: the last line of a revolution neighbours the first.
+      // Wrap around: the last line of a full turn neighbours the first (not of a partial one).
+      if (!around.closed_turn && a.line + std::size_t(step) >= line_count) break;
       const std::size_t line = (a.line + std::size_t(step)) % line_count;
       if (line == a.line) break;
       for (std::size_t j = line_begin[line]; j < line_begin[line + 1]; ++j) {
         const LineSegment& b = segments[j];
         if (std::abs(a.direction.dot(b.direction)) < cos_max) continue;
         const double range = std::min(a.range, b.range);
-        if (segmentDistance(a, b) > params.max_distance + params.distance_per_metre * range)
-          continue;
+        const double allowed =
+            params.max_distance + params.distance_per_metre * range + ringGap(a, b, around, step);
+        if (segmentDistance(a, b) > allowed) continue;
         neighbours[i].push_back(std::uint32_t(j));
         neighbours[j].push_back(std::uint32_t(i));
       }
@@ -111,9 +131,10 @@ Plane fitPlane(const PointMoments& moments) {
 }
 
 std::vector<Plane> clusterSegments(const std::vector<LineSegment>& segments, std::size_t line_count,
-                                   const ClusterParams& params) {
+                                   const ClusterParams& params,
+                                   const LineNeighbourhood& neighbourhood) {
   if (segments.empty() || line_count == 0) return {};
-  const auto neighbours = similarNeighbours(segments, line_count, params);
+  const auto neighbours = similarNeighbours(segments, line_count, params, neighbourhood);
   const double sin_max_angle = std::sin(params.max_angle_deg * std::numbers::pi / 180.0);
 
   // Longest segments seed first: they carry the most reliable direction.

@@ -42,7 +42,7 @@ std::vector<PointBlock> pointBlocks(const Scan& scan, int threads) {
 
 // Supporting point indices of a plane; `inner` counts those within half the distance.
 std::vector<std::uint32_t> supportingPoints(const Scan& scan, const std::vector<PointBlock>& blocks,
-                                            const Plane& plane, double distance,
+                                            const Plane& plane, double distance, double per_metre,
                                             std::size_t& inner) {
   const Eigen::Vector3f normal = plane.normal.cast<float>();
   const Eigen::Vector3f reach = normal.cwiseAbs();
@@ -55,7 +55,10 @@ std::vector<std::uint32_t> supportingPoints(const Scan& scan, const std::vector<
     const PointBlock& block = blocks[b];
     if (block.half_size.x() < 0.0F) continue;
     // The box's points are within reach . half_size of its centre's distance to the plane.
-    const float slack = tolerance + reach.dot(block.half_size) + 1e-4F;
+    // The band at the block's farthest range.
+    const float block_tolerance =
+        tolerance + float(per_metre) * (block.centre.norm() + block.half_size.norm());
+    const float slack = block_tolerance + reach.dot(block.half_size) + 1e-4F;
     if (std::abs(normal.dot(block.centre) - offset) > slack) continue;
     const std::size_t first = b * kBlock, count = std::min(kBlock, scan.size() - first);
     // The distances first, in a loop the compiler vectorises, then the few hits.
@@ -64,9 +67,16 @@ std::vector<std::uint32_t> supportingPoints(const Scan& scan, const std::vector<
       distances[j] = std::abs(normal.x() * p.x + normal.y() * p.y + normal.z() * p.z - offset);
     }
     for (std::size_t j = 0; j < count; ++j) {
-      if (!(distances[j] <= tolerance) || !scan.isValid(first + j)) continue;
+      if (!(distances[j] <= block_tolerance) || !scan.isValid(first + j)) continue;
+      float band = tolerance, half_band = half;
+      if (per_metre > 0.0) {
+        const Point3f& p = points[first + j];
+        band += float(per_metre) * std::sqrt(p.x * p.x + p.y * p.y + p.z * p.z);
+        half_band = band / 2;
+        if (distances[j] > band) continue;
+      }
       support.push_back(std::uint32_t(first + j));
-      inner += distances[j] <= half;
+      inner += distances[j] <= half_band;
     }
   }
   return support;
@@ -75,7 +85,7 @@ std::vector<std::uint32_t> supportingPoints(const Scan& scan, const std::vector<
 // Builds the support image and returns the area of its largest connected supported region.
 double buildSupportImage(const Scan& scan, const Plane& plane,
                          const std::vector<std::uint32_t>& support, const ValidationParams& params,
-                         SupportImage& image) {
+                         double growth_gap, SupportImage& image) {
   image.u_axis = plane.normal.unitOrthogonal();
   image.v_axis = plane.normal.cross(image.u_axis);
   image.cell = params.cell_size;
@@ -135,7 +145,11 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   // would give them points far away.
   const bool grows = largest >= kGrowthAreaFactor * min_cells;
   cv::Mat reach = grows ? cv::Mat(counts > 0) : cv::Mat(supported.clone());
-  if (grows) cv::dilate(reach, reach, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  const int gap_cells = std::max(1, int(std::lround(growth_gap / params.cell_size)));
+  if (grows)
+    cv::dilate(reach, reach,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                         cv::Size(2 * gap_cells + 1, 2 * gap_cells + 1)));
   cv::Mat reach_labels;
   const int reach_components = cv::connectedComponents(reach, reach_labels, 8, CV_32S);
   std::vector<bool> keep(std::size_t(reach_components), false);
@@ -163,7 +177,8 @@ bool SupportImage::contains(const Eigen::Vector3d& p) const {
 }
 
 ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
-                               const ValidationParams& params, int threads) {
+                               const ValidationParams& params, int threads,
+                               const SensorSpread& spread) {
   std::vector<SupportImage> images(candidates.size());
   std::vector<std::vector<std::uint32_t>> supports(candidates.size());
   const std::vector<PointBlock> blocks = pointBlocks(scan, threads);
@@ -172,11 +187,13 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
         for (std::size_t k = begin; k < end; ++k) {
           Plane& plane = candidates[k];
           std::size_t inner = 0;
-          supports[k] = supportingPoints(scan, blocks, plane, params.support_distance, inner);
+          supports[k] = supportingPoints(scan, blocks, plane, params.support_distance,
+                                         spread.support_per_metre, inner);
           plane.support_points = supports[k].size();
           const double area = supports[k].empty()
                                   ? 0.0
-                                  : buildSupportImage(scan, plane, supports[k], params, images[k]);
+                                  : buildSupportImage(scan, plane, supports[k], params,
+                                                      spread.growth_gap, images[k]);
           plane.support_area = area;
           plane.inner_fraction =
               supports[k].empty() ? 0.0 : double(inner) / double(supports[k].size());

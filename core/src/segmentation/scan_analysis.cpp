@@ -9,6 +9,15 @@ namespace {
 
 // Fewer valid points than this cannot carry a trustworthy ground estimate.
 constexpr std::size_t kMinValidPoints = 500;
+// A large plane's area extends over gaps between its lines this wide [m]: two support cells for a
+// RoSi, whose lines stay close; the far rings of a multi-beam sensor on the ground lie up to a few
+// metres apart (1.6 m at 20 m for a Velodyne HDL-64E 1.7 m up).
+constexpr double kLineGrowthGap = 0.4;
+constexpr double kRingGrowthGap = 2.0;
+// A multi-beam sensor sees a road out to 20 m and more, where its range noise and the road's own
+// camber and slope changes spread the support over more than the flat band: it widens by this
+// much per metre (0.15 m at 20 m), so the road is supported as a real plane is, crowding inside.
+constexpr double kRingSupportPerMetre = 0.005;
 
 class StageClock {
  public:
@@ -32,6 +41,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   analysis.scan_points = scan.size();
   analysis.valid_points = scan.validCount();
   analysis.up = upDirection(scan);
+  analysis.sensor = describeSensor(scan);
   if (analysis.valid_points < kMinValidPoints) {
     analysis.reason = "scan too sparse: " + std::to_string(analysis.valid_points) +
                       " valid points (at least " + std::to_string(kMinValidPoints) + " needed)";
@@ -48,13 +58,21 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   clock.stop("lines");
   reportProgress(progress, 0.4);
 
+  const bool multi_beam = analysis.sensor.kind == SensorKind::kMultiBeam;
+  LineNeighbourhood neighbourhood;
+  neighbourhood.closed_turn = analysis.sensor.closed_turn;
+  neighbourhood.ring_step = multi_beam ? analysis.sensor.between_line_step : 0.0;
+  neighbourhood.up = analysis.up;
   std::vector<Plane> candidates =
-      clusterSegments(analysis.segments, scan.lines.size(), params.clustering);
+      clusterSegments(analysis.segments, scan.lines.size(), params.clustering, neighbourhood);
   analysis.candidate_planes = candidates.size();
   clock.stop("clustering");
   reportProgress(progress, 0.6);
 
-  analysis.planes = validatePlanes(scan, std::move(candidates), params.validation, threads);
+  SensorSpread spread;
+  spread.growth_gap = multi_beam ? kRingGrowthGap : kLineGrowthGap;
+  spread.support_per_metre = multi_beam ? kRingSupportPerMetre : 0.0;
+  analysis.planes = validatePlanes(scan, std::move(candidates), params.validation, threads, spread);
   clock.stop("validation");
   reportProgress(progress, 0.8);
 
@@ -84,7 +102,11 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
       analysis.up = estimate.up;
       selectGround(analysis, params.ground);
     } else {
-      analysis.reason = estimate.reason;
+      // A scan with no line neighbours or no plane at all says so: that, not the missing pose, is
+      // what the operator must change.
+      analysis.reason = analysis.sensor.lines < 2 || analysis.planes.planes.empty()
+                            ? noGroundReason(analysis, params.ground)
+                            : estimate.reason;
     }
   }
   clock.stop("ground");

@@ -38,6 +38,63 @@ bool insideBox(const RobotPose& pose, const RobotParams& robot, double x, double
          std::abs(-dx * s + dy * c) <= robot.width / 2 + margin;
 }
 
+// Free ground cells whose samples lie farther apart than kSpacingPerStep x the robot's step, in
+// patches at least as wide as the step: a narrower patch (one ground point no triangle reached,
+// amid dense ground) cannot hide an obstacle that wide. A cell without a spacing of its own takes
+// the sparsest of its neighbours'.
+std::vector<std::uint8_t> sparseCells(const MapInputs& inputs, const std::vector<CellState>& state,
+                                      const RobotParams& robot, const MapParams& params) {
+  const MapGrid& grid = inputs.grid;
+  const std::size_t cells = grid.cells();
+  std::vector<std::uint8_t> sparse(cells, 0);
+  if (inputs.ground_spacing.size() != cells) return sparse;
+  const float max_spacing = float(kSpacingPerStep * robot.max_step);
+  auto spacingOf = [&](int column, int row) {
+    const float own = inputs.ground_spacing[grid.index(column, row)];
+    if (std::isfinite(own)) return own;
+    float around = 0.0F;
+    bool any = false;
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        if (!grid.inside(column + dc, row + dr)) continue;
+        const std::size_t next = grid.index(column + dc, row + dr);
+        if (inputs.ground_plane[next] < 0 || !std::isfinite(inputs.ground_spacing[next])) continue;
+        around = std::max(around, inputs.ground_spacing[next]);
+        any = true;
+      }
+    return any ? around : own;
+  };
+  std::vector<std::uint8_t> raw(cells, 0);
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      const bool free = state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle;
+      raw[cell] = free && inputs.ground_plane[cell] >= 0 && spacingOf(column, row) > max_spacing;
+    }
+  // Opening by a square as wide as the step: patches narrower than the step go.
+  const int reach = std::max(0, int(std::floor(robot.max_step / params.resolution / 2.0)));
+  auto sweep = [&](const std::vector<std::uint8_t>& in, bool erode) {
+    std::vector<std::uint8_t> out(cells, 0);
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column) {
+        bool all = true, any = false;
+        for (int dr = -reach; dr <= reach; ++dr)
+          for (int dc = -reach; dc <= reach; ++dc) {
+            const bool set =
+                grid.inside(column + dc, row + dr) && in[grid.index(column + dc, row + dr)];
+            all = all && set;
+            any = any || set;
+          }
+        out[grid.index(column, row)] = erode ? all : any;
+      }
+    return out;
+  };
+  const std::vector<std::uint8_t> opened = sweep(sweep(raw, true), false);
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    sparse[cell] = raw[cell] && opened[cell];
+  return sparse;
+}
+
 }  // namespace
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
@@ -132,6 +189,8 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
         classes.reason[cell] = CellReason::kNone;
       }
   }
+  // Free ground whose samples are too far apart to vouch for it.
+  classes.sparse = sparseCells(inputs, classes.state, robot, params);
 
   // Blocking points in CSR layout for the exact narrow-passage check.
   classes.point_start.assign(cells + 1, 0);
@@ -146,6 +205,17 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     classes.ys[fill[o.cell]++] = o.y;
   }
   return classes;
+}
+
+CellClasses withSparseBlocked(const CellClasses& classes) {
+  CellClasses blocked = classes;
+  for (std::size_t cell = 0; cell < classes.sparse.size(); ++cell) {
+    if (!classes.sparse[cell]) continue;
+    blocked.state[cell] = CellState::kBlocked;
+    blocked.reason[cell] = CellReason::kSparse;
+    blocked.blocked_by_points_only[cell] = 0;
+  }
+  return blocked;
 }
 
 }  // namespace clearway::detail

@@ -22,12 +22,22 @@ struct CellClasses {
   std::vector<std::uint32_t> point_start;
   std::vector<float> xs, ys;
   std::vector<int> accepted_ground;
+  // 1 on free cells whose ground samples are too far apart to rule out an obstacle taller than
+  // the robot's step between them (MapInputs::ground_spacing against the step).
+  std::vector<std::uint8_t> sparse;
 };
 
 // With `own_place`, the robot stands there: returns inside its box are its own body and are
 // dropped, and the cells under it (to the half cell the coarse test adds) are ground. Unobserved
 // floor around it stays unknown: a scanner that sees one hemisphere cannot tell the floor its body
 // hid from a wall behind it.
+// The same classes with every sparse cell blocked (reason kSparse, not by points).
+CellClasses withSparseBlocked(const CellClasses& classes);
+
+// Ground samples at most this many robot steps apart leave no room for a hidden obstacle taller
+// than the step: a triangle whose edges are all at most 2 s holds no square wider than s.
+inline constexpr double kSpacingPerStep = 2.0;
+
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
                           const MapParams& params, const RobotPose* own_place = nullptr);
 

@@ -288,82 +288,14 @@ class FootprintTester {
   const RobotParams& robot_;
 };
 
-}  // namespace
-
-std::string_view reasonName(CellReason reason) {
-  switch (reason) {
-    case CellReason::kNone:
-      return "";
-    case CellReason::kWall:
-      return "wall";
-    case CellReason::kTooLow:
-      return "too low";
-    case CellReason::kTooSteep:
-      return "too steep";
-    case CellReason::kTooNarrow:
-      return "too narrow";
-    case CellReason::kOtherLevel:
-      return "unreachable level";
-    case CellReason::kStairsTooSteep:
-      return "stairs too steep";
-  }
-  return "";
-}
-
-std::string_view labelName(CellLabel label) {
-  switch (label) {
-    case CellLabel::kUnknown:
-      return "unknown";
-    case CellLabel::kTraversable:
-      return "traversable";
-    case CellLabel::kCareful:
-      return "careful";
-    case CellLabel::kObstacle:
-      return "obstacle";
-    case CellLabel::kImpassable:
-      return "impassable";
-    case CellLabel::kStairs:
-      return "stairs";
-  }
-  return "";
-}
-
-double TraversabilityMap::yawDegrees(int column, int row) const {
-  const std::uint8_t index = orientation[grid.index(column, row)];
-  if (index == 255) return std::numeric_limits<double>::quiet_NaN();
-  return yaws[index] * 180.0 / std::numbers::pi;
-}
-
-TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const RobotParams& robot,
-                                        const MapParams& params, int threads,
-                                        const ProgressCallback& progress) {
-  TraversabilityMap map;
-  map.grid = analysis.inputs.grid;
-  const std::size_t cells = map.grid.cells();
-  map.labels.assign(cells, std::uint8_t(CellLabel::kUnknown));
-  map.reasons.assign(cells, std::uint8_t(CellReason::kNone));
-  map.orientation.assign(cells, 255);
-  if (!analysis.ground_found || cells == 0) {
-    // Nothing can be trusted: one unknown cell under the scanner, and no traversable cell at all.
-    map.grid = MapGrid{params.resolution, Eigen::Vector2d::Constant(-params.resolution / 2), 1, 1};
-    map.labels.assign(1, std::uint8_t(CellLabel::kUnknown));
-    map.reasons.assign(1, std::uint8_t(CellReason::kNone));
-    map.orientation.assign(1, 255);
-    map.counts[0] = 1;
-    return map;
-  }
-  MapParams grid_params = params;
-  grid_params.resolution = map.grid.resolution;  // the grid was made with the analysis' resolution
-
-  // The robot stands at its own pose, in its own heading: that orientation is always tried.
-  map.yaws = orientationsToTry(analysis, params.orientations);
-  map.robot_pose = robotPoseOnMap(analysis, robot, map.yaws);
-  map.robot_orientation = orientationIndex(map.yaws, map.robot_pose.yaw);
-
-  const CellClasses classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose);
-  map.accepted_ground = classes.accepted_ground;
-  reportProgress(progress, 0.3);
-
+// Moves the robot's box over every free cell of `classes`: labels, reasons and orientations of
+// `map` (whose grid is set).
+// With `reach_into`, also searches where the robot can get from its own pose (map.robot_pose),
+// with this placement's tests, into that map's reach layer.
+void placeRobot(const ScanAnalysis& analysis, const CellClasses& classes, const RobotParams& robot,
+                const MapParams& params, int threads, TraversabilityMap& map,
+                TraversabilityMap* reach_into = nullptr) {
+  const MapParams& grid_params = params;
   auto maskOf = [&](auto predicate) {
     cv::Mat mask(map.grid.height, map.grid.width, CV_8UC1);
     for (int row = 0; row < map.grid.height; ++row)
@@ -473,15 +405,11 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
           }
         }
       });
-  labelStairs(analysis, robot, map);  // never green: climbable with care, or impassable
-  for (std::uint8_t label : map.labels)
-    ++map.counts[label];
-  reportProgress(progress, 0.8);
-
+  if (!reach_into) return;
   // Where the robot can get from its own pose: the same tests as above, one pose at a time.
   // The label loop above tried every orientation where nothing fits: those cells are settled.
   detail::searchReachable(
-      map,
+      *reach_into,
       [&](int column, int row, int k) {
         const std::size_t cell = map.grid.index(column, row);
         const auto label = CellLabel(map.labels[cell]);
@@ -498,6 +426,121 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
         return PoseFit::kBlocked;
       },
       threads);
+}
+
+}  // namespace
+
+std::string_view reasonName(CellReason reason) {
+  switch (reason) {
+    case CellReason::kNone:
+      return "";
+    case CellReason::kWall:
+      return "wall";
+    case CellReason::kTooLow:
+      return "too low";
+    case CellReason::kTooSteep:
+      return "too steep";
+    case CellReason::kTooNarrow:
+      return "too narrow";
+    case CellReason::kOtherLevel:
+      return "unreachable level";
+    case CellReason::kStairsTooSteep:
+      return "stairs too steep";
+    case CellReason::kSparse:
+      return "too sparse";
+  }
+  return "";
+}
+
+std::string_view labelName(CellLabel label) {
+  switch (label) {
+    case CellLabel::kUnknown:
+      return "unknown";
+    case CellLabel::kTraversable:
+      return "traversable";
+    case CellLabel::kCareful:
+      return "careful";
+    case CellLabel::kObstacle:
+      return "obstacle";
+    case CellLabel::kImpassable:
+      return "impassable";
+    case CellLabel::kStairs:
+      return "stairs";
+  }
+  return "";
+}
+
+double TraversabilityMap::yawDegrees(int column, int row) const {
+  const std::uint8_t index = orientation[grid.index(column, row)];
+  if (index == 255) return std::numeric_limits<double>::quiet_NaN();
+  return yaws[index] * 180.0 / std::numbers::pi;
+}
+
+TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const RobotParams& robot,
+                                        const MapParams& params, int threads,
+                                        const ProgressCallback& progress) {
+  TraversabilityMap map;
+  map.grid = analysis.inputs.grid;
+  const std::size_t cells = map.grid.cells();
+  map.labels.assign(cells, std::uint8_t(CellLabel::kUnknown));
+  map.reasons.assign(cells, std::uint8_t(CellReason::kNone));
+  map.orientation.assign(cells, 255);
+  if (!analysis.ground_found || cells == 0) {
+    // Nothing can be trusted: one unknown cell under the scanner, and no traversable cell at all.
+    map.grid = MapGrid{params.resolution, Eigen::Vector2d::Constant(-params.resolution / 2), 1, 1};
+    map.labels.assign(1, std::uint8_t(CellLabel::kUnknown));
+    map.reasons.assign(1, std::uint8_t(CellReason::kNone));
+    map.orientation.assign(1, 255);
+    map.counts[0] = 1;
+    return map;
+  }
+  MapParams grid_params = params;
+  grid_params.resolution = map.grid.resolution;  // the grid was made with the analysis' resolution
+
+  // The robot stands at its own pose, in its own heading: that orientation is always tried.
+  map.yaws = orientationsToTry(analysis, params.orientations);
+  map.robot_pose = robotPoseOnMap(analysis, robot, map.yaws);
+  map.robot_orientation = orientationIndex(map.yaws, map.robot_pose.yaw);
+
+  const CellClasses classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose);
+  map.accepted_ground = classes.accepted_ground;
+  reportProgress(progress, 0.3);
+
+  // Sparse ground first counts as unobserved: green and careful only where no obstacle taller than
+  // the step can hide under the box. Where the box fits only over sparse ground, the cell is orange
+  // (probably passable) with the reason "too sparse".
+  const bool has_sparse =
+      std::any_of(classes.sparse.begin(), classes.sparse.end(), [](std::uint8_t s) { return s; });
+  if (!has_sparse) {
+    placeRobot(analysis, classes, robot, grid_params, threads, map, &map);
+  } else {
+    TraversabilityMap loose = map;
+    // The robot may drive over sparse ground with care: reachability uses the loose placement.
+    placeRobot(analysis, classes, robot, grid_params, threads, loose, &map);
+    placeRobot(analysis, detail::withSparseBlocked(classes), robot, grid_params, threads, map);
+    auto fits = [](std::uint8_t label) {
+      return label == std::uint8_t(CellLabel::kTraversable) ||
+             label == std::uint8_t(CellLabel::kCareful) ||
+             label == std::uint8_t(CellLabel::kObstacle);
+    };
+    for (std::size_t cell = 0; cell < cells; ++cell) {
+      if (fits(map.labels[cell])) continue;  // fits on vouched-for ground
+      if (fits(loose.labels[cell])) {
+        map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
+        map.reasons[cell] = std::uint8_t(CellReason::kSparse);
+      } else {
+        // Does not fit even over sparse ground: the reason is not the density.
+        map.labels[cell] = loose.labels[cell];
+        map.reasons[cell] = loose.reasons[cell];
+      }
+      map.orientation[cell] = loose.orientation[cell];
+    }
+  }
+  labelStairs(analysis, robot, map);  // never green: climbable with care, or impassable
+  for (std::uint8_t label : map.labels)
+    ++map.counts[label];
+  reportProgress(progress, 0.8);
+
   for (std::size_t cell = 0; cell < cells; ++cell) {
     const auto label = CellLabel(map.labels[cell]);
     const bool fits = label == CellLabel::kTraversable || label == CellLabel::kCareful ||

@@ -21,6 +21,10 @@ struct LoadOptions {
   // In files without a line structure, a new scan line starts where the angle along the line
   // jumps back by more than this [deg].
   double line_break_deg = 20.0;
+  // Multi-beam frames: how many rings (beams) the sensor has; 0 = read the rings from the file
+  // (a PCD `ring` field, organised rows, or the azimuth wrap). When the lines found do not number
+  // this many, the rings are recovered from the elevation angles instead.
+  std::size_t rings = 0;
   // Files claiming more points than this are refused before anything is allocated.
   std::uint64_t max_points = 200'000'000;
   ProgressCallback progress;

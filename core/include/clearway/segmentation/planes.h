@@ -40,8 +40,21 @@ struct Plane {
 // Least-squares plane of a moment set; normal oriented so offset >= 0.
 Plane fitPlane(const PointMoments& moments);
 
+// What the clustering needs to know of the sensor (from describeSensor(), sensor_geometry.h).
+struct LineNeighbourhood {
+  // The last line neighbours the first (a full turn of the turntable); otherwise lines are
+  // neighbours only within the file's order (a partial turn, multi-beam rings).
+  bool closed_turn = true;
+  // Multi-beam: the elevation step between rings [rad], 0 otherwise. Neighbouring rings meet the
+  // ground range^2 / height x step apart (1.6 m at 20 m for a Velodyne 1.7 m up), so similar
+  // segments below the sensor may lie that far apart.
+  double ring_step = 0.0;
+  Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // gravity's up in the scan's frame
+};
+
 std::vector<Plane> clusterSegments(const std::vector<LineSegment>& segments, std::size_t line_count,
-                                   const ClusterParams& params);
+                                   const ClusterParams& params,
+                                   const LineNeighbourhood& neighbourhood = {});
 
 // Support image of one plane: which cells of its 2D grid hold a connected supported area.
 struct SupportImage {
@@ -59,7 +72,18 @@ struct ValidatedPlanes {
   std::size_t rejected = 0;               // candidate planes the support test removed
 };
 
+// What validation needs to know of the sensor: how far apart its lines may lie on a plane, and
+// how its range noise grows.
+struct SensorSpread {
+  // A large plane's area extends over gaps between its scan lines up to this wide [m] (a
+  // multi-beam sensor's far rings on the ground lie much farther apart than a RoSi's lines).
+  double growth_gap = 0.4;
+  // The support band widens by this much per metre of range (0: params.support_distance flat).
+  double support_per_metre = 0.0;
+};
+
 ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
-                               const ValidationParams& params, int threads = 2);
+                               const ValidationParams& params, int threads = 2,
+                               const SensorSpread& spread = {});
 
 }  // namespace clearway

@@ -16,6 +16,7 @@
 #include "clearway/segmentation/params.h"
 #include "clearway/segmentation/planes.h"
 #include "clearway/segmentation/stairs.h"
+#include "clearway/sensor_geometry.h"
 
 namespace clearway {
 
@@ -60,6 +61,10 @@ struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
   std::vector<float> ground_height;        // per cell: that plane's map z at the cell centre
+  // Per ground cell: the widest obstacle that could stand between the sensor's samples there
+  // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
+  // robot's step (docs/ALGORITHM.md, "Sparse scans never lie").
+  std::vector<float> ground_spacing;
   std::vector<MapObstacle> obstacles;
   std::vector<GroundContact> contacts;
   std::vector<std::array<std::uint32_t, 3>> ground_triangles;  // scan point indices
@@ -73,6 +78,7 @@ struct StageTiming {
 struct ScanAnalysis {
   std::size_t scan_points = 0;
   std::size_t valid_points = 0;
+  SensorGeometry sensor;  // kind, angular steps, whether the lines close a full turn
   std::vector<LineSegment> segments;
   std::size_t candidate_planes = 0;
   ValidatedPlanes planes;                         // kinds are set: ground / wall / ceiling / other
@@ -107,6 +113,10 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
 // The up direction a scan's pose gives (world z seen from the scanner); the file's own z axis
 // when it has none (the analysis then estimates it instead: see up_estimation.h).
 Eigen::Vector3d upDirection(const Scan& scan);
+
+// Why no ground was found, from what the stages saw (one line, no plane, only ceilings, only
+// walls): the cause, then what to do.
+std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& params);
 
 // Internal steps, exposed for tests.
 void selectGround(ScanAnalysis& analysis, const GroundParams& params);

@@ -19,7 +19,7 @@ enum class CellLabel : std::uint8_t {
   kUnknown = 0,      // not observed
   kTraversable = 1,  // green
   kCareful = 2,      // orange: fits only with little margin (narrow passage)
-  kObstacle = 3,     // orange: a low, probably passable obstacle
+  kObstacle = 3,     // orange: a low, probably passable obstacle, or too sparse to be sure
   kImpassable = 4,   // red
   kStairs = 5,       // stairs the robot can climb, with care (else impassable, kStairsTooSteep)
 };
@@ -34,6 +34,9 @@ enum class CellReason : std::uint8_t {
   kTooNarrow = 4,   // free, but the robot's box does not fit in any orientation
   kOtherLevel = 5,  // a surface the robot cannot reach (a table top, a platform)
   kStairsTooSteep = 6,  // stairs whose risers or flight are steeper than the robot climbs
+  // Orange, not green: the ground samples under the robot's box are so far apart that an obstacle
+  // taller than the robot's step could stand between them unseen.
+  kSparse = 7,
 };
 std::string_view reasonName(CellReason reason);
 std::string_view labelName(CellLabel label);

@@ -1,0 +1,235 @@
+#include "clearway/sensor_geometry.h"
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <vector>
+
+namespace clearway {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+double wrapAngle(double angle) {
+  return std::remainder(angle, 2.0 * kPi);  // into [-pi, pi]
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+// A multi-beam ring sweeps (nearly) a full turn in azimuth; a RoSi half line sweeps none, a
+// nodding scanner's horizontal line at most its field of view (270 deg for most 2D scanners).
+constexpr double kRingSweep = 300.0 * kPi / 180.0;
+// Along one line, at most this many steps are looked at: the median is settled long before.
+constexpr std::size_t kStepsPerLine = 400;
+// The closing step of a full turn may be this many times the usual step between lines (a line
+// or two lost at the start or end of the turn).
+constexpr double kClosingStepFactor = 2.5;
+// Lines lost at the start and end of a turn (sky, no returns) leave a gap at most this wide that
+// the turn still closes over [rad]; the density check keeps the wedge from showing green.
+constexpr double kLargestSeamGap = 15.0 * kPi / 180.0;
+// A full turn's steps sum to 360 deg within this much (the closing step included) [rad].
+// The lowest a sensor is taken to be above the ground it sees (files with their origin on the
+// floor still had the beams start somewhere above it) [m].
+constexpr double kLowestBeamHeight = 0.05;
+constexpr double kTurnTolerance = 20.0 * kPi / 180.0;
+
+struct LineShape {
+  bool usable = false;
+  double azimuth_sweep = 0.0;  // sum of |azimuth steps| along the line [rad]
+  double azimuth = 0.0;        // direction of the line's points about z (vector mean) [rad]
+  double elevation = 0.0;      // median elevation [rad]
+  double step = 0.0;           // median angle between neighbouring returns [rad]
+};
+
+LineShape shapeOf(const Scan& scan, const ScanLine& line) {
+  LineShape shape;
+  std::vector<double> elevations, steps;
+  double sum_x = 0.0, sum_y = 0.0;
+  bool has_previous = false;
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  double previous_azimuth = 0.0;
+  std::size_t previous_index = 0;
+  const std::size_t stride = std::max<std::size_t>(1, line.count / kStepsPerLine);
+  for (std::size_t k = 0; k < line.count; k += stride) {
+    const std::size_t i = line.first + k;
+    if (!scan.isValid(i)) continue;
+    const Point3f& p = scan.points[i];
+    const Eigen::Vector3d v(p.x, p.y, p.z);
+    const double range = v.norm();
+    if (range <= 1e-6) continue;
+    const Eigen::Vector3d direction = v / range;
+    const double azimuth = std::atan2(direction.y(), direction.x());
+    sum_x += direction.x();
+    sum_y += direction.y();
+    if (has_previous) {
+      shape.azimuth_sweep += std::abs(wrapAngle(azimuth - previous_azimuth));
+      // The mean step over the returns between the two samples (invalid ones included).
+      steps.push_back(std::acos(std::clamp(direction.dot(previous), -1.0, 1.0)) /
+                      double(i - previous_index));
+    }
+    elevations.push_back(std::asin(std::clamp(direction.z(), -1.0, 1.0)));
+    previous = direction;
+    previous_index = i;
+    previous_azimuth = azimuth;
+    has_previous = true;
+  }
+  if (steps.empty()) return shape;
+  shape.usable = true;
+  shape.azimuth = std::atan2(sum_y, sum_x);
+  shape.elevation = median(elevations);
+  shape.step = median(steps);
+  return shape;
+}
+
+}  // namespace
+
+std::string_view sensorKindName(SensorKind kind) {
+  switch (kind) {
+    case SensorKind::kRotating2D:
+      return "rotating 2D";
+    case SensorKind::kMultiBeam:
+      return "multi-beam";
+    case SensorKind::kUnknown:
+      break;
+  }
+  return "unknown";
+}
+
+SensorGeometry describeSensor(const Scan& scan) {
+  SensorGeometry sensor;
+  sensor.lines = scan.lines.size();
+  if (scan.lines.size() < 2) return sensor;
+  std::vector<LineShape> shapes;
+  shapes.reserve(scan.lines.size());
+  std::vector<std::size_t> used;  // line index of each usable shape
+  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
+    LineShape shape = shapeOf(scan, scan.lines[l]);
+    if (!shape.usable) continue;
+    shapes.push_back(shape);
+    used.push_back(l);
+  }
+  if (shapes.size() < 2) return sensor;
+  sensor.line_angle.assign(scan.lines.size(), std::numeric_limits<double>::quiet_NaN());
+  std::vector<double> sweeps, along;
+  for (const LineShape& s : shapes) {
+    sweeps.push_back(s.azimuth_sweep);
+    along.push_back(s.step);
+  }
+  sensor.along_line_step = median(along);
+
+  if (median(sweeps) >= kRingSweep) {
+    // Rings: the step between them is the elevation step, whatever order the file keeps them in.
+    sensor.kind = SensorKind::kMultiBeam;
+    for (std::size_t k = 0; k < shapes.size(); ++k)
+      sensor.line_angle[used[k]] = shapes[k].elevation;
+    std::vector<double> elevations;
+    for (const LineShape& s : shapes)
+      elevations.push_back(s.elevation);
+    std::sort(elevations.begin(), elevations.end());
+    std::vector<double> gaps;
+    for (std::size_t k = 1; k < elevations.size(); ++k)
+      gaps.push_back(elevations[k] - elevations[k - 1]);
+    sensor.between_line_step = median(gaps);
+    return sensor;
+  }
+
+  // Lines fanning about a turntable axis: their angles are beta when the file gives it, else
+  // the direction of their points about z (vertical fans; files with another axis carry beta).
+  sensor.kind = SensorKind::kRotating2D;
+  std::vector<double> angles;
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    const double beta = scan.lines[used[k]].beta;
+    angles.push_back(std::isfinite(beta) ? beta : shapes[k].azimuth);
+  }
+  for (std::size_t k = 0; k < shapes.size(); ++k)
+    sensor.line_angle[used[k]] = angles[k];
+  std::vector<double> steps;
+  double total = 0.0;
+  for (std::size_t k = 1; k < angles.size(); ++k) {
+    const double step = wrapAngle(angles[k] - angles[k - 1]);
+    steps.push_back(std::abs(step));
+    total += step;
+  }
+  // The step between lines side by side: the median gap between their sorted angles (a wide
+  // 2D field writes a fan's two halves half a turn apart, one after the other).
+  std::vector<double> sorted;
+  for (const double angle : angles)
+    sorted.push_back(std::remainder(angle, 2.0 * kPi));
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<double> gaps;
+  // Lines at the same angle (a fan's up and down sweeps) are not neighbours apart.
+  constexpr double kSameAngle = 1e-4;  // [rad]
+  for (std::size_t k = 1; k < sorted.size(); ++k)
+    if (sorted[k] - sorted[k - 1] > kSameAngle) gaps.push_back(sorted[k] - sorted[k - 1]);
+  sensor.between_line_step = median(gaps);
+  const double closing = wrapAngle(angles.front() - angles.back());
+  const bool small_closing =
+      std::abs(closing) <= std::max(kClosingStepFactor * sensor.between_line_step, kLargestSeamGap);
+  // Once around and back to the start, or more than once around (the turntable overran: the
+  // last lines overlap the first ones, and the turn has no gap at all).
+  const bool once_around =
+      small_closing && std::abs(std::abs(total + closing) - 2.0 * kPi) <= kTurnTolerance;
+  const bool overran = std::abs(total) >= 2.0 * kPi - kTurnTolerance;
+  sensor.closed_turn = angles.size() >= 3 && (once_around || overran);
+  return sensor;
+}
+
+double expectedGroundSpacing(const SensorGeometry& sensor, double range, double height) {
+  if (height <= 0.0) return std::numeric_limits<double>::infinity();
+  const double slant_squared = range * range + height * height;
+  // The step that runs towards the sensor is stretched on the ground by slant^2 / height; the one
+  // that runs across is not.
+  const double radial_step =
+      sensor.kind == SensorKind::kMultiBeam ? sensor.between_line_step : sensor.along_line_step;
+  const double tangential_step =
+      sensor.kind == SensorKind::kMultiBeam ? sensor.along_line_step : sensor.between_line_step;
+  return std::max(slant_squared / height * radial_step, range * tangential_step);
+}
+
+double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point,
+                          const Eigen::Vector3d& up, double height) {
+  if (sensor.kind == SensorKind::kUnknown || sensor.along_line_step <= 0.0 ||
+      sensor.between_line_step <= 0.0)
+    return std::numeric_limits<double>::infinity();
+  const double range = point.norm();
+  if (range <= 0.0) return 0.0;
+  // The sweep's axis is the frame's z: the turntable axis of a RoSi file, the spin axis of a
+  // multi-beam head. Across the sweep, neighbouring beams are this far apart, unprotected.
+  const double from_axis = point.head<2>().norm();
+  const double across_step =
+      sensor.kind == SensorKind::kMultiBeam ? sensor.along_line_step : sensor.between_line_step;
+  const double within_step =
+      sensor.kind == SensorKind::kMultiBeam ? sensor.between_line_step : sensor.along_line_step;
+  const double across = from_axis * across_step;
+  // Within a fan (the beams of one line, or one ring to the next), the step moves the ground
+  // sample by d(hit)/d(angle) x step. Its part along the beam's horizontal direction is protected
+  // by the farther beam (worth 2 x range x step); its part sideways is not.
+  const Eigen::Vector3d u = point / range;
+  const double elevation = std::asin(std::clamp(u.z(), -1.0, 1.0));
+  const double azimuth = std::atan2(u.y(), u.x());
+  const Eigen::Vector3d du(-std::sin(elevation) * std::cos(azimuth),
+                           -std::sin(elevation) * std::sin(azimuth), std::cos(elevation));
+  const double facing = up.dot(u);  // negative: the beam goes down to the ground
+  const double drop = std::max(height, kLowestBeamHeight);
+  if (facing > -1e-3) return std::numeric_limits<double>::infinity();  // grazing or upward
+  const double t = -drop / facing;
+  const double dt = drop * up.dot(du) / (facing * facing);
+  Eigen::Vector3d move = (t * du + dt * u) * within_step;
+  move -= move.dot(up) * up;
+  Eigen::Vector3d beam = u - facing * up;
+  if (beam.norm() < 1e-6) return std::max(across, move.norm());
+  beam.normalize();
+  const double radial = std::abs(move.dot(beam));
+  const double sideways = (move - move.dot(beam) * beam).norm();
+  const double within = std::max(sideways, std::min(radial, 2.0 * range * within_step));
+  return std::max(across, within);
+}
+
+}  // namespace clearway

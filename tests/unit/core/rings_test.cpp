@@ -1,0 +1,96 @@
+// Multi-beam frames: rings from a PCD `ring` field, from the azimuth wrap (KITTI's order), and
+// from the elevation angles when the frame's order tells nothing (--rings N).
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "clearway/io/scan_io.h"
+#include "clearway/io/scan_lines.h"
+#include "clearway/sensor_geometry.h"
+#include "test_support.h"
+
+namespace clearway {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr int kRings = 4;
+constexpr int kPerRing = 360;
+
+// Ring r at elevation -10 + 5 r deg, one return per degree of azimuth from 0 on, 10 m away.
+Point3f ringPoint(int ring, int k) {
+  const double elevation = (-10.0 + 5.0 * ring) * kDeg, azimuth = (k + 0.5) * kDeg;
+  return {float(10.0 * std::cos(elevation) * std::cos(azimuth)),
+          float(10.0 * std::cos(elevation) * std::sin(azimuth)), float(10.0 * std::sin(elevation))};
+}
+
+TEST(Rings, KittiOrderEndsARingWhereTheAzimuthHasGoneOnceAround) {
+  Scan scan;
+  for (int r = 0; r < kRings; ++r)
+    for (int k = 0; k < kPerRing; ++k) {
+      scan.points.push_back(ringPoint(r, k));
+      scan.status.push_back(PointStatus::kValid);
+    }
+  reconstructScanLines(scan, 20.0 * kDeg);
+  ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
+  for (const ScanLine& line : scan.lines)
+    EXPECT_EQ(line.count, std::size_t(kPerRing));
+  const SensorGeometry sensor = describeSensor(scan);
+  EXPECT_EQ(sensor.kind, SensorKind::kMultiBeam);
+  EXPECT_NEAR(sensor.between_line_step, 5.0 * kDeg, 0.1 * kDeg);
+}
+
+TEST(Rings, ShuffledFrameGetsItsRingsBackFromTheElevation) {
+  Scan scan;
+  for (int r = 0; r < kRings; ++r)
+    for (int k = 0; k < kPerRing; ++k) {
+      scan.points.push_back(ringPoint(r, k));
+      scan.status.push_back(PointStatus::kValid);
+    }
+  std::mt19937 random(3);
+  std::shuffle(scan.points.begin(), scan.points.end(), random);
+  recoverRings(scan, kRings);
+  ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
+  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
+    EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing));
+    // Every point of a ring at that ring's elevation, in azimuth order.
+    for (std::size_t i = scan.lines[l].first + 1; i < scan.lines[l].first + scan.lines[l].count;
+         ++i) {
+      const Point3f& p = scan.points[i];
+      EXPECT_NEAR(std::asin(p.z / 10.0) / kDeg, -10.0 + 5.0 * double(l), 1e-3);
+      const Point3f& q = scan.points[i - 1];
+      EXPECT_LT(std::atan2(q.y, q.x), std::atan2(p.y, p.x));
+    }
+  }
+}
+
+TEST(Rings, APcdRingFieldMakesOneLinePerRing) {
+  test::TemporaryDirectory directory;
+  std::ostringstream pcd;
+  const int points = kRings * kPerRing;
+  pcd << "VERSION 0.7\nFIELDS x y z ring\nSIZE 4 4 4 2\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH "
+      << points << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points << "\nDATA ascii\n";
+  // Interleaved as a driver writes them: one return of every ring per firing.
+  for (int k = 0; k < kPerRing; ++k)
+    for (int r = 0; r < kRings; ++r) {
+      const Point3f p = ringPoint(r, k);
+      pcd << p.x << ' ' << p.y << ' ' << p.z << ' ' << r << '\n';
+    }
+  const auto file = directory / "rings.pcd";
+  test::writeBytes(file, pcd.str());
+  const Scan scan = loadScan(file);
+  ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
+  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
+    EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing));
+    const Point3f& p = scan.points[scan.lines[l].first];
+    EXPECT_NEAR(std::asin(p.z / 10.0) / kDeg, -10.0 + 5.0 * double(l), 1e-2);
+  }
+  EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
+}
+
+}  // namespace
+}  // namespace clearway
