@@ -51,6 +51,21 @@ int greenPixels(const QImage& image) {
   return count;
 }
 
+// Nothing in the map, on the 3D ground or among the obstacle cubes tells the robot to drive.
+bool nothingDrivable(const PipelineResult& result) {
+  const auto drivable = [](CellLabel label) {
+    return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
+           label == CellLabel::kObstacle || label == CellLabel::kStairs;
+  };
+  for (const std::uint8_t label : result.map.labels)
+    if (drivable(CellLabel(label))) return false;
+  for (const CellLabel label : result.scene.vertex_labels)
+    if (drivable(label)) return false;
+  for (const SceneBox& box : result.scene.obstacles)
+    if (drivable(box.label)) return false;
+  return true;
+}
+
 struct Simulated {
   QString path;
   sim::ScannerPlacement placement;
@@ -199,6 +214,7 @@ class PoseAndReachTest : public QObject {
     QVERIFY(!goal->isChecked());  // one click, one question
     const QString yes = window.statusBar()->currentMessage();
     QVERIFY2(yes.contains("Yes, reachable") && yes.contains(" m "), qPrintable(yes));
+    qInfo("0.85 m robot: %s", qPrintable(yes));
     const auto& path = window.mapView()->path();
     QVERIFY(path.size() >= 2);
     QVERIFY(std::hypot(path.back().x - yard.x(), path.back().y - yard.y()) < 0.1);
@@ -212,6 +228,7 @@ class PoseAndReachTest : public QObject {
     QTRY_VERIFY_WITH_TIMEOUT(std::abs(shown(window).robot.width - 1.0) < 1e-6, kTimeoutMs);
     const QString no = window.statusBar()->currentMessage();
     QVERIFY2(no.contains("Can it get there? No: ") && no.size() > 25, qPrintable(no));
+    qInfo("1.0 m robot: %s", qPrintable(no));
     QVERIFY(window.mapView()->path().empty());
   }
 
@@ -265,8 +282,10 @@ class PoseAndReachTest : public QObject {
     QVERIFY(window.withholdsTraversable());
     QCOMPARE(greenPixels(window.mapView()->image()), 0);
     QCOMPARE(shown(window).map.counts[std::size_t(CellLabel::kTraversable)], std::size_t(0));
+    QVERIFY(nothingDrivable(shown(window)));
     auto* banner = window.findChild<QLabel*>("trustBanner");
     QVERIFY(banner->isVisible());
+    qInfo("banner: %s", qPrintable(banner->text()));
     QVERIFY2(banner->text().contains("Up direction estimated from the scan (confidence"),
              qPrintable(banner->text()));
     auto* confirm = window.findChild<QPushButton*>("confirmUpButton");
@@ -281,6 +300,8 @@ class PoseAndReachTest : public QObject {
     QVERIFY(!window.withholdsTraversable());
     QVERIFY(!banner->isVisible());
     QVERIFY(greenPixels(window.mapView()->image()) > 1000);
+    QVERIFY(!nothingDrivable(shown(window)));
+    qInfo("estimated up confirmed: %d green map pixels", greenPixels(window.mapView()->image()));
     QVERIFY2(scanInfo(window).contains("confirmed by the operator"), qPrintable(scanInfo(window)));
   }
 
@@ -317,6 +338,7 @@ class PoseAndReachTest : public QObject {
     QVERIFY(shown(window).trusted());
     const double error = angleDeg(analysis.up, trueUp(without_pose_));
     QVERIFY2(error < kUpToleranceDeg, qPrintable(QString("up %1 deg off").arg(error)));
+    qInfo("picked floor: up %.3f deg from the truth", error);
     QVERIFY(greenPixels(window.mapView()->image()) > 1000);
   }
 

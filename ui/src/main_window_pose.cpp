@@ -46,6 +46,8 @@ std::shared_ptr<const PipelineResult> withholdTraversable(const PipelineResult& 
   map.fits_not_reachable_cells = 0;
   for (CellLabel& label : withheld->scene.vertex_labels)
     if (drivable(label)) label = CellLabel::kUnknown;
+  for (SceneBox& box : withheld->scene.obstacles)  // orange "probably passable" cubes
+    if (drivable(box.label)) box.label = CellLabel::kUnknown;
   withheld->goal.reset();
   return withheld;
 }

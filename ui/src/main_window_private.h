@@ -53,8 +53,8 @@ struct MainWindow::Private {
 };
 
 // The result with nothing traversable left in it (green, careful, low obstacles and climbable
-// stairs become unknown, in the map and on the 3D ground): what is drawn while an estimated up
-// direction waits for the operator (main_window_pose.cpp).
+// stairs become unknown, in the map, on the 3D ground and on the obstacle cubes): what is drawn
+// while an estimated up direction waits for the operator (main_window_pose.cpp).
 std::shared_ptr<const PipelineResult> withholdTraversable(const PipelineResult& result);
 
 // QSettings keys.
