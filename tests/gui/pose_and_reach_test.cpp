@@ -6,6 +6,10 @@
 
 #include <QAction>
 #include <QComboBox>
+#include <QFile>
+#include <QJsonArray>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
@@ -215,6 +219,16 @@ class PoseAndReachTest : public QObject {
     const QString yes = window.statusBar()->currentMessage();
     QVERIFY2(yes.contains("Yes, reachable") && yes.contains(" m "), qPrintable(yes));
     qInfo("0.85 m robot: %s", qPrintable(yes));
+    // The exported report carries the goal as `segment --goal` writes it.
+    const QString report = directory_.filePath("goal-report.json");
+    QVERIFY(window.exportTo(ui::ExportKind::kReportJson, report).isEmpty());
+    QFile file(report);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    const QJsonObject goal_json =
+        QJsonDocument::fromJson(file.readAll()).object()["goal"].toObject();
+    QVERIFY(goal_json["reachable"].toBool());
+    QVERIFY(goal_json["path"].toArray().size() >= 2);
+    QVERIFY(goal_json["length_m"].toDouble() > 0.0);
     const auto& path = window.mapView()->path();
     QVERIFY(path.size() >= 2);
     QVERIFY(std::hypot(path.back().x - yard.x(), path.back().y - yard.y()) < 0.1);

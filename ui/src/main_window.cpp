@@ -451,6 +451,7 @@ QString MainWindow::exportTo(ExportKind kind, const QString& path,
   MapPictureOptions options = picture;
   options.palette = d_->palette;
   options.robot = d_->map->robotPose();
+  options.path = d_->map->path();
   const QString problem =
       exportResult(kind, d_->shown, d_->session->params(), file, d_->scene, options);
   if (!problem.isEmpty()) {

@@ -159,6 +159,10 @@ void MainWindow::planGoal() {
     answer = tr("Can it get there? Confirm the up direction or pick the floor first.");
   } else {
     const GoalResult goal = planPath(result->map, d_->goal->x(), d_->goal->y());
+    // The exported report carries the question and its answer, as `segment --goal` writes it.
+    auto with_goal = std::make_shared<PipelineResult>(*result);
+    with_goal->goal = goal;
+    d_->shown.result = std::move(with_goal);
     for (const clearway::PathPose& pose : goal.path)
       path.push_back({pose.x, pose.y, pose.heading_deg / kDegrees});
     answer = goal.reachable
