@@ -23,6 +23,7 @@
 #include <limits>
 
 #include "clearway/io/scan_io.h"
+#include "clearway/pose.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/rosi_simulator.h"
 #include "clearway/ui/main_window.h"
@@ -260,6 +261,28 @@ class PoseAndReachTest : public QObject {
     QVERIFY2(scanInfo(window).contains("Pose: estimated from the scan (confidence"),
              qPrintable(scanInfo(window)));
 
+    // A sidecar beside the scan (as acquisition writes it) wins over the file: the console
+    // resolves the pose as the command line does.
+    const QString sidecar_scan = directory_.filePath("garage_sidecar.pcd");
+    QVERIFY(QFile::copy(without_pose_.path, sidecar_scan));
+    SensorPose truth;
+    const Eigen::Isometry3d world_from_scanner = without_pose_.placement.worldFromScanner();
+    for (int r = 0; r < 3; ++r) {
+      truth.position[std::size_t(r)] = world_from_scanner.translation()[r];
+      for (int c = 0; c < 3; ++c)
+        truth.rotation[std::size_t(3 * r + c)] = world_from_scanner.linear()(r, c);
+    }
+    writePoseSidecar(truth, "test", directory_.filePath("garage_sidecar.pose.json").toStdString());
+    window.openScan(sidecar_scan);
+    QVERIFY(shown_spy.wait(kTimeoutMs));
+    QCOMPARE(shown(window).analysis.pose_source, PoseSource::kSidecar);
+    QVERIFY2(scanInfo(window).contains(
+                 "Pose: from the acquisition's pose file (sidecar) (garage_sidecar.pose.json)"),
+             qPrintable(scanInfo(window)));
+    QVERIFY(!window.withholdsTraversable());
+
+    window.openScan(without_pose_.path);
+    QVERIFY(shown_spy.wait(kTimeoutMs));
     window.editScanPose();
     auto* dialog = window.findChild<ui::PoseDialog*>("poseDialog");
     QVERIFY(dialog);
@@ -268,6 +291,14 @@ class PoseAndReachTest : public QObject {
     text->setText("0,0");  // core's parser refuses it, OK stays off
     QVERIFY(!ok->isEnabled());
     QVERIFY(!dialog->findChild<QLabel*>("poseProblem")->text().isEmpty());
+    // A whole pose needs seven numbers; three are an up direction only.
+    auto* kind = dialog->findChild<QComboBox*>("poseKind");
+    kind->setCurrentIndex(1);
+    text->setText("0,0,1");
+    QVERIFY(!ok->isEnabled());
+    text->setText("0,0,0.5,1,0,0,0");
+    QVERIFY(ok->isEnabled());
+    kind->setCurrentIndex(0);
     const Eigen::Vector3d up = trueUp(without_pose_);
     text->setText(
         QString("%1,%2,%3").arg(up.x(), 0, 'g', 9).arg(up.y(), 0, 'g', 9).arg(up.z(), 0, 'g', 9));
@@ -317,6 +348,30 @@ class PoseAndReachTest : public QObject {
     QVERIFY(!nothingDrivable(shown(window)));
     qInfo("estimated up confirmed: %d green map pixels", greenPixels(window.mapView()->image()));
     QVERIFY2(scanInfo(window).contains("confirmed by the operator"), qPrintable(scanInfo(window)));
+  }
+
+  // 4a'. When the estimate is refused (no ground), the red banner offers the floor pick and a
+  // typed pose, but nothing to confirm.
+  void aRefusedEstimateOffersTheFloorAndAPose() {
+    const sim::Scene scene = *sim::builtinScene("no-ground");
+    sim::SensorModel sensor;
+    sensor.lines = 100;
+    auto simulated = sim::simulateRosi(scene, sensor, sim::defaultPlacement(scene));
+    simulated.scan.sensor_pose.reset();
+    const QString path = directory_.filePath("no_ground_no_pose.pcd");
+    saveRosiPcd(simulated.scan, path.toStdString());
+    MainWindow window;
+    window.show();
+    QSignalSpy shown_spy(&window, &MainWindow::resultShown);
+    window.openScan(path);
+    QVERIFY(shown_spy.wait(kTimeoutMs));
+    QVERIFY(!shown(window).trusted());
+    QVERIFY(!window.withholdsTraversable());
+    QVERIFY(window.findChild<QLabel*>("trustBanner")->isVisible());
+    QVERIFY(window.findChild<QPushButton*>("pickFloorButton")->isVisible());
+    QVERIFY(window.findChild<QPushButton*>("typePoseButton")->isVisible());
+    QVERIFY(!window.findChild<QPushButton*>("confirmUpButton")->isVisible());
+    QCOMPARE(greenPixels(window.mapView()->image()), 0);
   }
 
   // 4b. "This is the floor": a point on the floor sets up from its plane (within 5 degrees of the
