@@ -21,6 +21,7 @@
 #include <QtTest>
 #include <cmath>
 #include <limits>
+#include <nlohmann/json.hpp>
 
 #include "clearway/io/scan_io.h"
 #include "clearway/pose.h"
@@ -196,6 +197,20 @@ class PoseAndReachTest : public QObject {
     window.openScan(directory_.filePath("missing.pcd"));
     QTRY_VERIFY_WITH_TIMEOUT(!window.mapView()->hasResult(), kTimeoutMs);
     QVERIFY(window.mapView()->reachable().empty());
+  }
+
+  // 1'. The scanner's mounting on the robot (Settings > Parameters) places the robot; a size
+  // change on the robot panel keeps it.
+  void theMountingSurvivesARobotSizeChange() {
+    SegmentationParams params;
+    params.robot.mount_x = 0.4;  // the scanner 0.4 m ahead of the robot's centre
+    QSettings().setValue("segmentation/params", QString::fromStdString(toJson(params).dump()));
+    MainWindow window;
+    window.show();
+    QVERIFY(openWithRobot(window, with_pose_.path, 0.9));
+    QCOMPARE(shown(window).robot.mount_x, 0.4);
+    QCOMPARE(window.mapView()->robotPose().x, shown(window).map.robot_pose.x);
+    QSettings().clear();
   }
 
   // 2. "Can it get there?": G, then a click on the yard. 0.85 m: a path through the door, drawn;
