@@ -1,10 +1,11 @@
 // clearway: the operator console.
 // clearway [SCAN] [--load SCAN] [--robot-width W] [--robot-length L] [--robot-height H]
 //          [--screenshot PNG [--size WxH] [--view operator|top|front|side]]
-//          [--measure X1,Y1,X2,Y2] [--deuteranopia]
+//          [--measure X1,Y1,X2,Y2] [--goal X,Y] [--deuteranopia]
 // With --screenshot it loads and segments the scan, renders, saves a picture of the window and
 // exits: 0 when all went well, 1 with a message otherwise. --size sets the window's size, --view
-// the 3D camera, --measure draws a measured distance on the map, --deuteranopia saves the picture
+// the 3D camera, --measure draws a measured distance on the map, --goal asks "Can it get there?"
+// for a map position (the path or the reason is shown), --deuteranopia saves the picture
 // as a person with deuteranopia would see it (Machado 2009), so screenshots are reproducible.
 
 #include <QApplication>
@@ -14,6 +15,7 @@
 #include <QTemporaryDir>
 #include <QTimer>
 #include <cstdio>
+#include <optional>
 
 #include "clearway/memory_tuning.h"
 #include "clearway/ui/main_window.h"
@@ -82,6 +84,18 @@ bool readMeasure(const QCommandLineParser& parser, std::vector<double>& points) 
   return true;
 }
 
+bool readGoal(const QCommandLineParser& parser, std::optional<QPointF>& goal) {
+  if (!parser.isSet("goal")) return true;
+  const QStringList parts = parser.value("goal").split(',');
+  bool ok_x = false, ok_y = false;
+  if (parts.size() == 2) goal = QPointF(parts[0].toDouble(&ok_x), parts[1].toDouble(&ok_y));
+  if (!ok_x || !ok_y) {
+    std::fprintf(stderr, "clearway: --goal needs X,Y in map metres\n");
+    return false;
+  }
+  return true;
+}
+
 // Clicks at two map positions with the measuring tool on, as the operator would.
 void measureOnMap(clearway::ui::MapView& map, const std::vector<double>& points) {
   map.setMeasuring(true);
@@ -118,6 +132,8 @@ int main(int argc, char** argv) {
   parser.addOption({"view", "3D camera: operator (default), top, front or side.", "view"});
   parser.addOption({"measure", "Measure on the map between two points [m].", "x1,y1,x2,y2"});
   parser.addOption({"deuteranopia", "Save the screenshot as seen with deuteranopia."});
+  parser.addOption(
+      {"goal", "With --screenshot: ask \"Can it get there?\" for a map position [m].", "x,y"});
   parser.process(application);
 
   // A screenshot shows the console as at its first start: settings of its own, not the user's
@@ -136,7 +152,10 @@ int main(int argc, char** argv) {
   QSize size;
   clearway::ui::SceneView::CameraView view = clearway::ui::SceneView::CameraView::kBehind;
   std::vector<double> measure;
-  if (!readSize(parser, size) || !readView(parser, view) || !readMeasure(parser, measure)) return 2;
+  std::optional<QPointF> goal;
+  if (!readSize(parser, size) || !readView(parser, view) || !readMeasure(parser, measure) ||
+      !readGoal(parser, goal))
+    return 2;
   window.setRobot(robot);
   if (size.isValid()) window.resize(size);
   window.show();
@@ -156,6 +175,7 @@ int main(int argc, char** argv) {
       if (window.session()->busy()) return;
       window.sceneView()->setCameraView(view);
       if (!measure.empty()) measureOnMap(*window.mapView(), measure);
+      if (goal) window.canItGetThere(goal->x(), goal->y());
       // Let the window paint the new result before taking the picture.
       QTimer::singleShot(300, &application, [&] {
         if (!deuteranopia) {

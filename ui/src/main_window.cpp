@@ -1,5 +1,6 @@
 #include "clearway/ui/main_window.h"
 
+#include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
 #include <QDockWidget>
@@ -7,6 +8,7 @@
 #include <QDropEvent>
 #include <QFileDialog>
 #include <QFileInfo>
+#include <QHBoxLayout>
 #include <QMessageBox>
 #include <QMimeData>
 #include <QScreen>
@@ -23,6 +25,7 @@
 #include "clearway/ui/hardware_panel.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/parameters_dialog.h"
+#include "clearway/ui/pose_dialog.h"
 #include "clearway/ui/robot_panel.h"
 #include "clearway/ui/scan_panel.h"
 #include "clearway/ui/scene_view.h"
@@ -71,6 +74,12 @@ QString humanSummary(const SessionResult& result) {
                 .arg(QLocale().toString(result.scan_time, QLocale::ShortFormat))
                 .arg(ageInWords(result.scan_time));
   const PipelineResult& pipeline = *result.result;
+  const ScanAnalysis& analysis = pipeline.analysis;
+  text += QObject::tr("<br>Pose: %1")
+              .arg(poseSourceInWords(analysis.pose_source, analysis.up_confidence).toHtmlEscaped());
+  if (analysis.pose_source == PoseSource::kSidecar)
+    text += QObject::tr(" (%1)").arg(
+        QFileInfo(QString::fromStdString(result.pose.detail)).fileName().toHtmlEscaped());
   text += pipeline.trusted()
               ? QObject::tr("<br>Ground found; map of %1 × %2 m at %3 cm cells.")
                     .arg(pipeline.map.grid.width * pipeline.map.grid.resolution, 0, 'f', 1)
@@ -101,12 +110,25 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   auto* centre = new QWidget(this);
   auto* layout = new QVBoxLayout(centre);
   layout->setContentsMargins(0, 0, 0, 0);
-  d_->banner = new QLabel(centre);
+  d_->trust_bar = new QWidget(centre);
+  d_->trust_bar->setObjectName("trustBar");
+  d_->trust_bar->setAttribute(Qt::WA_StyledBackground);
+  auto* bar_layout = new QHBoxLayout(d_->trust_bar);
+  bar_layout->setContentsMargins(0, 0, 8, 0);
+  d_->banner = new QLabel(d_->trust_bar);
   d_->banner->setObjectName("trustBanner");
   d_->banner->setWordWrap(true);
-  d_->banner->setStyleSheet(
-      "QLabel { background: #b71c1c; color: white; padding: 8px; font-weight: bold; }");
-  d_->banner->hide();
+  d_->banner->setStyleSheet("QLabel { color: white; padding: 8px; font-weight: bold; }");
+  bar_layout->addWidget(d_->banner, 1);
+  d_->confirm_up = new QPushButton(tr("Confirm up direction"), d_->trust_bar);
+  d_->confirm_up->setObjectName("confirmUpButton");
+  d_->pick_floor = new QPushButton(tr("Pick the floor in 3D..."), d_->trust_bar);
+  d_->pick_floor->setObjectName("pickFloorButton");
+  d_->type_pose = new QPushButton(tr("Type the pose..."), d_->trust_bar);
+  d_->type_pose->setObjectName("typePoseButton");
+  for (QPushButton* button : {d_->confirm_up, d_->pick_floor, d_->type_pose})
+    bar_layout->addWidget(button);
+  d_->trust_bar->hide();
   auto* views = new QSplitter(Qt::Horizontal, centre);
   views->setObjectName("viewSplitter");
   d_->scene = new SceneView(views);
@@ -114,7 +136,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   views->addWidget(d_->scene);
   views->addWidget(d_->map);
   views->setSizes({600, 600});
-  layout->addWidget(d_->banner);
+  layout->addWidget(d_->trust_bar);
   layout->addWidget(views, 1);
   setCentralWidget(centre);
 
@@ -152,12 +174,20 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   buildMenus();
   addViewToolBar();
   // A click (not a drag) on the map stands the robot's box there in 3D.
-  connect(d_->map, &MapView::clicked, this,
-          [this](double x, double y) { d_->scene->showRobotAt(x, y, d_->map->yawAt(x, y)); });
+  // With "Can it get there?" on, the click is the goal instead.
+  connect(d_->map, &MapView::clicked, this, [this](double x, double y) {
+    if (d_->goal_action->isChecked()) {
+      d_->goal_action->setChecked(false);  // one click, one question
+      canItGetThere(x, y);
+      return;
+    }
+    d_->scene->showRobotAt(x, y, d_->map->yawAt(x, y));
+  });
   connect(d_->map, &MapView::left, d_->hover, &QLabel::clear);
   connect(d_->map, &MapView::hovered, this, [this](double x, double y, const QString& description) {
-    d_->hover->setText(
-        tr("x %1 m, y %2 m: %3").arg(x, 0, 'f', 2).arg(y, 0, 'f', 2).arg(description));
+    QString text = tr("x %1 m, y %2 m: %3").arg(x, 0, 'f', 2).arg(y, 0, 'f', 2).arg(description);
+    if (d_->withheld) text += tr(" — up direction not confirmed: nothing shown as traversable");
+    d_->hover->setText(text);
   });
   const auto show_distance = [this](double metres) {
     statusBar()->showMessage(tr("Distance: %1 m").arg(metres, 0, 'f', 2));
@@ -166,12 +196,21 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   connect(d_->scene, &SceneView::measured, this, show_distance);
   connect(d_->scene, &SceneView::pointPicked, this,
           [this](double x, double y, double z, const QString& what) {
+            if (d_->floor_action->isChecked()) {
+              d_->floor_action->setChecked(false);
+              pickFloorAt(x, y, z);
+              return;
+            }
             d_->hover->setText(tr("Picked x %1 m, y %2 m, z %3 m: %4")
                                    .arg(x, 0, 'f', 2)
                                    .arg(y, 0, 'f', 2)
                                    .arg(z, 0, 'f', 2)
                                    .arg(what));
           });
+  connect(d_->confirm_up, &QPushButton::clicked, this, &MainWindow::confirmEstimatedUp);
+  connect(d_->pick_floor, &QPushButton::clicked, this,
+          [this] { d_->floor_action->setChecked(true); });
+  connect(d_->type_pose, &QPushButton::clicked, this, &MainWindow::editScanPose);
   connect(d_->robot, &RobotPanel::robotChanged, d_->session, &SegmentationSession::setRobot);
   connect(d_->robot, &RobotPanel::maxSlopeChanged, this, [this](double degrees) {
     SegmentationParams params = d_->session->params();
@@ -354,16 +393,20 @@ void MainWindow::updateTitle() {
 
 void MainWindow::showResult(const SessionResult& result) {
   const PipelineResult& pipeline = *result.result;
+  // A goal belongs to one scan in one frame: a robot change keeps it, a new scan or pose drops it.
+  if (result.scan != d_->shown.scan) d_->goal.reset();
   d_->shown = result;
+  // An estimated up direction may be wrong: nothing is drawn traversable until it is confirmed.
+  d_->withheld = pipeline.trusted() && pipeline.analysis.pose_source == PoseSource::kEstimated;
+  if (d_->withheld) d_->shown.result = withholdTraversable(pipeline);
   d_->shown_is_previous = false;
   d_->map->setStale({});
-  d_->map->setResult(result.result);
+  d_->map->setResult(d_->shown.result);
   // An untrusted result still shows the cloud, but its scene has no ground and no boxes.
-  d_->scene->setScene(result.scan, result.result);
+  d_->scene->setScene(d_->shown.scan, d_->shown.result);
+  showPoseAndReach();
   // The safety rule: when the result cannot be trusted, say so and show nothing traversable.
-  d_->banner->setVisible(!pipeline.trusted());
-  d_->banner->setText(tr("Nothing is shown as traversable: %1")
-                          .arg(QString::fromStdString(pipeline.analysis.reason)));
+  updateTrustBanner();
   d_->scans->setCurrent(result.scan_path, humanSummary(result), detailsOf(result));
   statusBar()->showMessage(tr("%1: done in %2 s")
                                .arg(QFileInfo(result.scan_path).fileName())
@@ -371,15 +414,19 @@ void MainWindow::showResult(const SessionResult& result) {
                            5000);
   updateTitle();
   updateAge();
+  if (d_->goal) planGoal();
   emit resultShown(pipeline.trusted());
 }
 
 void MainWindow::clearShown() {
   d_->shown = {};
   d_->shown_is_previous = false;
+  d_->withheld = false;
+  d_->goal.reset();
   d_->map->clear();
   d_->scene->clearScene();
-  d_->banner->hide();
+  d_->trust_bar->hide();
+  findChild<QAction*>("confirmUpAction")->setEnabled(false);
   d_->scans->clearCurrent();
   updateTitle();
   updateAge();
@@ -404,6 +451,7 @@ QString MainWindow::exportTo(ExportKind kind, const QString& path,
   MapPictureOptions options = picture;
   options.palette = d_->palette;
   options.robot = d_->map->robotPose();
+  options.path = d_->map->path();
   const QString problem =
       exportResult(kind, d_->shown, d_->session->params(), file, d_->scene, options);
   if (!problem.isEmpty()) {

@@ -9,6 +9,7 @@
 #include <QMenuBar>
 #include <QPushButton>
 #include <QSettings>
+#include <QStatusBar>
 #include <QToolBar>
 
 #include "clearway/ui/hardware_panel.h"
@@ -74,6 +75,15 @@ void MainWindow::buildMenus() {
   });
   cancel->setShortcut(Qt::Key_Escape);
   scan->addSeparator();
+  QAction* type_pose =
+      scan->addAction(tr("Type the scan's &pose..."), this, &MainWindow::editScanPose);
+  type_pose->setObjectName("typePoseAction");
+  type_pose->setShortcut(QKeySequence("Ctrl+Shift+P"));
+  QAction* confirm_up = scan->addAction(tr("&Confirm the estimated up direction"), this,
+                                        &MainWindow::confirmEstimatedUp);
+  confirm_up->setObjectName("confirmUpAction");
+  confirm_up->setEnabled(false);  // only while an estimated up direction waits (trust banner)
+  scan->addSeparator();
   scan->addAction(tr("Robot &wider"), this, [this] { nudgeRobotWidth(kWidthStep); })
       ->setShortcut(Qt::Key_BracketRight);
   scan->addAction(tr("Robot &narrower"), this, [this] { nudgeRobotWidth(-kWidthStep); })
@@ -99,9 +109,39 @@ void MainWindow::buildMenus() {
   measure->setObjectName("measureAction");
   measure->setCheckable(true);
   measure->setShortcut(Qt::Key_M);
+  d_->measure_action = measure;
+  // The map tools take the next click(s); at most one of them is on.
+  QAction* goal = view->addAction(tr("&Can it get there? (click a goal on the map)"));
+  goal->setObjectName("goalAction");
+  goal->setCheckable(true);
+  goal->setShortcut(Qt::Key_G);
+  goal->setIconText(tr("Can it get there?"));
+  d_->goal_action = goal;
+  QAction* floor = view->addAction(tr("This is the f&loor (click it in the 3D view)"));
+  floor->setObjectName("floorAction");
+  floor->setCheckable(true);
+  floor->setShortcut(Qt::Key_L);
+  floor->setIconText(tr("This is the floor"));
+  d_->floor_action = floor;
   connect(measure, &QAction::toggled, this, [this](bool on) {
+    if (on) {
+      d_->goal_action->setChecked(false);
+      d_->floor_action->setChecked(false);
+    }
     d_->map->setMeasuring(on);
     d_->scene->setMeasuring(on);
+  });
+  connect(goal, &QAction::toggled, this, [this](bool on) {
+    if (!on) return;
+    d_->measure_action->setChecked(false);
+    d_->floor_action->setChecked(false);
+    statusBar()->showMessage(tr("Can it get there? Click the goal on the map."));
+  });
+  connect(floor, &QAction::toggled, this, [this](bool on) {
+    if (!on) return;
+    d_->measure_action->setChecked(false);
+    d_->goal_action->setChecked(false);
+    statusBar()->showMessage(tr("This is the floor: click the floor in the 3D view."));
   });
   view->addSeparator();
   auto* layers = view->addMenu(tr("&Layers"));
@@ -155,6 +195,8 @@ void MainWindow::addViewToolBar() {
   bar->addSeparator();
   bar->addAction(findChild<QAction*>("fitAction"));
   bar->addAction(findChild<QAction*>("measureAction"));
+  bar->addAction(d_->goal_action);
+  bar->addAction(d_->floor_action);
   bar->addSeparator();
   auto* colour = new QComboBox(bar);
   colour->setObjectName("cloudColour");

@@ -5,14 +5,17 @@
 
 #include <QDateTime>
 #include <QLabel>
+#include <QPointF>
 #include <QProgressBar>
 #include <QPushButton>
 #include <QTimer>
+#include <optional>
 
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/palette.h"
 #include "clearway/ui/segmentation_session.h"
 
+class QAction;
 class QDockWidget;
 
 namespace clearway::ui {
@@ -24,7 +27,18 @@ struct MainWindow::Private {
   MapView* map = nullptr;
   SceneView* scene = nullptr;
   RobotPanel* robot = nullptr;
+  QWidget* trust_bar = nullptr;  // the banner and its buttons
   QLabel* banner = nullptr;
+  QPushButton* confirm_up = nullptr;
+  QPushButton* pick_floor = nullptr;
+  QPushButton* type_pose = nullptr;
+  QAction* goal_action = nullptr;
+  QAction* floor_action = nullptr;
+  QAction* measure_action = nullptr;
+  // An estimated up direction the operator has not confirmed: nothing traversable is drawn.
+  bool withheld = false;
+  // The last "Can it get there?" goal (map frame), re-planned when the robot changes.
+  std::optional<QPointF> goal;
   ScanPanel* scans = nullptr;
   HardwarePanel* hardware = nullptr;
   std::vector<QDockWidget*> docks;
@@ -37,6 +51,11 @@ struct MainWindow::Private {
   bool shown_is_previous = false;
   PaletteKind palette = PaletteKind::kColourBlindSafe;
 };
+
+// The result with nothing traversable left in it (green, careful, low obstacles and climbable
+// stairs become unknown, in the map, on the 3D ground and on the obstacle cubes): what is drawn
+// while an estimated up direction waits for the operator (main_window_pose.cpp).
+std::shared_ptr<const PipelineResult> withholdTraversable(const PipelineResult& result);
 
 // QSettings keys.
 inline const char* const kParamsKey = "segmentation/params";

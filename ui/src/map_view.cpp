@@ -130,6 +130,11 @@ QString MapView::describe(double map_x, double map_y) const {
   QString text = QString::fromUtf8(labelName(label).data(), int(labelName(label).size()));
   const auto reason = reasonName(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]));
   if (!reason.empty()) text += ": " + QString::fromUtf8(reason.data(), int(reason.size()));
+  // Where it fits, whether it can get there from where it stands.
+  const bool free = label == CellLabel::kTraversable || label == CellLabel::kCareful;
+  if (free && reachable_.size() == map.labels.size())
+    text += reachable_[map.grid.index(cell.x(), cell.y())] ? tr(", reachable")
+                                                           : tr(", fits, but cannot get there");
   // On a staircase: its steps, rise, tread and direction, and whether this robot climbs it.
   const auto& stairs = result_->analysis.stairs;
   if (const int flight = stairs.staircaseAt(map.grid.index(cell.x(), cell.y())); flight >= 0)

@@ -159,7 +159,9 @@ void RobotPanel::setMaxSlopeDeg(double degrees) {
 }
 
 RobotParams RobotPanel::robot() const {
-  SegmentationParams params;
+  // The panel edits the size; the rest of the robot (the scanner's mounting, its stair ability)
+  // comes with the engine's parameters (Settings > Parameters) and must survive a slider move.
+  SegmentationParams params = d_->engine;
   for (const auto& dimension : d_->dimensions)
     setParameterValue(params, dimension.key, dimension.spin->value());
   params.robot.name = d_->name;

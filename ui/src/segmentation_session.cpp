@@ -34,7 +34,11 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
       control->percent = int(30 * f);
       return !control->cancel;
     };
-    auto scan = std::make_shared<const Scan>(loadScan(path.toStdString(), options));
+    options.self_hit_radius = params.scan.self_hit_radius;
+    Scan loaded = loadScan(path.toStdString(), options);
+    // The same precedence as the command line: a sidecar beside the scan, then the file's own.
+    outcome.result.pose = resolveScanPose(loaded, {});
+    auto scan = std::make_shared<const Scan>(std::move(loaded));
     auto result =
         std::make_shared<const PipelineResult>(runPipeline(*scan, params, 2, [control](double f) {
           control->percent = 30 + int(70 * f);
@@ -169,6 +173,16 @@ void SegmentationSession::resegment() {
   emit progress(0, tr("Segmenting"));
   d_->progress_timer.start();
   d_->load_watcher.setFuture(QtConcurrent::run(resegmentScan, previous, params_, d_->control));
+}
+
+void SegmentationSession::setScanPose(const PoseRequest& request, PoseSource source) {
+  if (!d_->current.scan) return;
+  auto posed = std::make_shared<Scan>(*d_->current.scan);
+  d_->current.pose = resolveScanPose(*posed, request);
+  posed->pose_source = source;
+  d_->current.pose.source = source;
+  d_->current.scan = std::move(posed);
+  resegment();
 }
 
 bool SegmentationSession::hasResult() const {

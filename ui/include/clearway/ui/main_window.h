@@ -3,6 +3,7 @@
 #include <QMainWindow>
 #include <memory>
 
+#include "clearway/pose.h"
 #include "clearway/segmentation/params.h"
 #include "clearway/ui/export_actions.h"
 
@@ -36,6 +37,23 @@ class MainWindow : public QMainWindow {
   // Writes an export (the extension is added when missing); empty on success, else the problem,
   // which is also shown. On success the status bar names the file and `exported` is emitted.
   QString exportTo(ExportKind kind, const QString& path, const MapPictureOptions& picture = {});
+  // The scan's pose (main_window_pose.cpp). A scan whose up direction was only estimated shows
+  // nothing traversable until the operator confirms the estimate, picks the floor or types a pose.
+  void editScanPose();
+  void setScanPose(const PoseRequest& request, PoseSource source);
+  void confirmEstimatedUp();
+  // "This is the floor" at a point of the 3D view (map frame as the view shows it; the scanner
+  // frame when there is no ground): its plane's normal becomes up and the scan is segmented
+  // again. Empty on success, else why not (also in the status bar).
+  QString pickFloorAt(double x, double y, double z);
+  // True while traversable cells are withheld (an estimated up direction, not yet confirmed).
+  bool withholdsTraversable() const;
+  // "Can it get there?" for a map position: core's planPath from the robot's pose; the path is
+  // drawn as footprints in both views. Returns the status bar's answer.
+  QString canItGetThere(double map_x, double map_y);
+  // What the views show (the result as drawn, withheld cells included).
+  const SessionResult& shownResult() const;
+
   // What the views show is now the previous scan (an acquisition started).
   void markShownAsPrevious();
   bool shownIsPrevious() const;
@@ -69,6 +87,9 @@ class MainWindow : public QMainWindow {
   void updateAge();
   void restoreLayout();
   void nudgeRobotWidth(double metres);
+  void showPoseAndReach();
+  void planGoal();
+  void updateTrustBanner();
 
   struct Private;
   std::unique_ptr<Private> d_;

@@ -43,9 +43,11 @@ class MapView : public QWidget {
   PathPose robotPose() const { return robot_pose_; }
   // The engine's "Can it get there?" path; empty hides it.
   void setPath(std::vector<PathPose> path);
+  const std::vector<PathPose>& path() const { return path_; }
   // Per map cell (the labels' indexing): 1 where the robot can get to. Free cells it cannot reach
   // are dimmed. Empty: reachability unknown, nothing dimmed.
   void setReachable(std::vector<std::uint8_t> reachable);
+  const std::vector<std::uint8_t>& reachable() const { return reachable_; }
   void setPaletteKind(PaletteKind palette);
   PaletteKind paletteKind() const { return palette_; }
   // Greys the map with `note` over it ("Previous scan, 2 min old ..."); an empty note ends it.

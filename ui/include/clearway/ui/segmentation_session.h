@@ -10,6 +10,7 @@
 #include <memory>
 
 #include "clearway/pipeline.h"
+#include "clearway/pose.h"
 #include "clearway/scan.h"
 #include "clearway/segmentation/params.h"
 
@@ -22,6 +23,8 @@ struct SessionResult {
   QString scan_path;
   // When the scan was taken: the file's modification time (acquisitions are saved as they end).
   QDateTime scan_time;
+  // Where the scan's pose came from (core's resolution: console > sidecar > file).
+  PoseResolution pose;
 };
 
 class SegmentationSession : public QObject {
@@ -35,6 +38,10 @@ class SegmentationSession : public QObject {
   void openScan(const QString& path);
   // Segments the scan already loaded again with the current parameters (stages 1-6, no reload).
   void resegment();
+  // Gives the loaded scan the operator's pose (typed: kCommandLine; a confirmed estimate or a
+  // picked floor: kOperator) through core's resolveScanPose, and segments it again. The pose
+  // belongs to this scan: the next scan opened is resolved from its own sources.
+  void setScanPose(const PoseRequest& request, PoseSource source);
   // True while a scan and its result are held (a failed or cancelled open drops them).
   bool hasResult() const;
   // Re-runs stages 5-6 for a new robot after a short pause (slider drags coalesce).
