@@ -1,5 +1,9 @@
+include(GoogleTest)
+
 # clearway_add_gtest(NAME SOURCES a.cpp b.cpp LIBRARIES lib... [LABELS label...])
-# One GoogleTest executable registered as one ctest test. Tests find the real scans through
+# One GoogleTest executable; each of its test cases becomes its own ctest test, named
+# "NAME.Suite.Case", so cases run in parallel and a failure is named. The cases are listed when
+# ctest runs (PRE_TEST), so building never runs the test binaries. Tests find the real scans through
 # CLEARWAY_REAL_DATA_DIR and skip with a message when it is absent.
 function(clearway_add_gtest name)
   cmake_parse_arguments(ARG "" "" "SOURCES;LIBRARIES;LABELS" ${ARGN})
@@ -10,8 +14,8 @@ function(clearway_add_gtest name)
     CLEARWAY_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     CLEARWAY_CLI="$<TARGET_FILE:clearway-cli>")
   clearway_target_defaults(${name})
-  add_test(NAME ${name} COMMAND ${name})
-  set_tests_properties(${name} PROPERTIES LABELS "${ARG_LABELS}")
+  gtest_discover_tests(${name} TEST_PREFIX "${name}." DISCOVERY_MODE PRE_TEST
+                       DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${ARG_LABELS}")
 endfunction()
 
 # clearway_add_qt_test(NAME SOURCES a.cpp LABELS label... [PLATFORM offscreen|xcb] [LAUNCHER cmd...])

@@ -2,6 +2,8 @@
 
 #include <charconv>
 
+#include "clearway/segmentation/params.h"
+
 namespace clearway::cli {
 
 Arguments::Arguments(const std::vector<std::string>& words, const std::set<std::string>& flags,
@@ -51,8 +53,8 @@ double Arguments::number(const std::string& name, double fallback, double min, d
   if (error != std::errc() || end != text->data() + text->size())
     throw UsageError("--" + name + " '" + *text + "' is not a number");
   if (!(value >= min && value <= max))
-    throw UsageError("--" + name + " " + *text + " is outside " + std::to_string(min) + " .. " +
-                     std::to_string(max));
+    throw UsageError("--" + name + " " + *text + " is outside " + readableNumber(min) + " .. " +
+                     readableNumber(max));
   return value;
 }
 

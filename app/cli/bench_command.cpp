@@ -19,6 +19,7 @@
 #include "arguments.h"
 #include "bench_peers.h"
 #include "bench_timing.h"
+#include "clearway/io/result_manifest.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
 #include "clearway/sim/ground_truth_io.h"
@@ -166,7 +167,7 @@ nlohmann::json toJson(const BenchFigures& figures) {
     const std::vector<double>& times = figures.stage_ms.at(name);
     stages[name] = {{"median_ms", quantile(times, 0.5)}, {"p95_ms", quantile(times, 0.95)}};
   }
-  nlohmann::json json = {{"scan", figures.scan},
+  nlohmann::json json = {{"scan", utf8FileName(figures.scan)},
                          {"points", figures.points},
                          {"repeat", figures.repeat},
                          {"threads", figures.threads},

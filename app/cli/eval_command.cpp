@@ -2,6 +2,7 @@
 
 #include "arguments.h"
 #include "clearway/eval/evaluation.h"
+#include "clearway/io/result_manifest.h"
 #include "clearway/sim/ground_truth_io.h"
 #include "commands.h"
 
@@ -14,6 +15,8 @@ int runEval(const std::vector<std::string>& words) {
   options.footprint_tolerance_m =
       arguments.number("tolerance", options.footprint_tolerance_m, 0.0, 1.0);
   const sim::GroundTruth truth = sim::loadGroundTruth(arguments.positional()[0]);
+  // A folder mixing files of two runs (a re-run that failed half-way) is refused, not scored.
+  verifyResultFolder(arguments.positional()[1]);
   const eval::SegmentationResult result = eval::loadSegmentationResult(arguments.positional()[1]);
   const eval::Evaluation evaluation = eval::evaluate(truth, result, options);
   std::cout << (arguments.flag("json") ? eval::toJson(evaluation) + "\n"

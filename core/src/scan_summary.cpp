@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "clearway/io/result_manifest.h"
+
 namespace clearway {
 
 ScanSummary summarise(const Scan& scan) {
@@ -96,7 +98,7 @@ std::string toText(const ScanSummary& s) {
 
 std::string toJson(const ScanSummary& s) {
   nlohmann::ordered_json json;
-  json["file"] = s.file;
+  json["file"] = utf8FileName(s.file);  // JSON needs UTF-8; lossless for any bytes
   json["format"] = s.format;
   json["frame"] = s.frame;
   json["points"] = s.points;

@@ -1,6 +1,8 @@
 // Plain ASCII point lists: XYZ/TXT/DAT ("x y z [intensity]", metres) and 3DTK's "uos" .3d
 // (centimetres, left-handed, y up) with its .pose sidecar.
 
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -15,11 +17,39 @@ namespace {
 
 constexpr std::uintmax_t kMaxAsciiBytes = 8ULL << 30;
 
-std::string readAsciiScan(const std::filesystem::path& file, const LoadOptions& options) {
+// A pose file holds six numbers; anything much larger is not one.
+constexpr std::uintmax_t kMaxPoseBytes = 4096;
+// How much of a text scan is looked at before the whole file is read.
+constexpr std::size_t kSniffBytes = 64 * 1024;
+
+// Parses the complete lines of the file's first bytes: garbage is refused (naming its line) before
+// gigabytes of it are read.
+void checkTextHead(const std::filesystem::path& file, std::string_view head,
+                   std::uintmax_t file_size) {
+  if (head.size() < file_size) {
+    const std::size_t last_newline = head.rfind('\n');
+    if (last_newline == std::string_view::npos)
+      throw ScanError(file, "not a text point file: no line break in its first " +
+                                std::to_string(head.size()) + " bytes");
+    head = head.substr(0, last_newline + 1);
+  }
+  parseNumberRows(file, head, 3, [](const std::array<double, 4>&, std::size_t) {}, {});
+}
+
+std::string readAsciiScan(const std::filesystem::path& file) {
+  // Recognise the format from the first bytes before reading (and allocating for) the whole file.
+  std::uintmax_t file_size = 0;
+  const std::string head = readFilePrefix(file, kSniffBytes, file_size);
+  if (head.find('\0') != std::string::npos)
+    throw ScanError(file, "binary data in a text point file (wrong extension?)");
+  if (file_size > kMaxAsciiBytes)
+    throw ScanError(file, "file of " + std::to_string(file_size) +
+                              " bytes is larger than the limit of " +
+                              std::to_string(kMaxAsciiBytes) + " bytes");
+  checkTextHead(file, head, file_size);
   std::string text = readWholeFile(file, kMaxAsciiBytes);
   if (text.find('\0') != std::string::npos)
     throw ScanError(file, "binary data in a text point file (wrong extension?)");
-  (void)options;
   return text;
 }
 
@@ -51,21 +81,45 @@ SensorPose uosPoseToClearway(const std::array<double, 6>& uos) {
   return pose;
 }
 
+// The .pose sidecar is optional, but one that is there must be read: a silently ignored pose puts
+// the scan in the wrong place.
 std::optional<SensorPose> readUosPose(const std::filesystem::path& scan_file) {
   std::filesystem::path pose_file = scan_file;
   pose_file.replace_extension(".pose");
-  std::ifstream stream(pose_file);
-  if (!stream) return std::nullopt;
+  std::error_code error;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(pose_file, error)))
+    return std::nullopt;
+  const std::string text = readWholeFile(pose_file, kMaxPoseBytes);
   std::array<double, 6> values{};
-  for (double& value : values)
-    if (!(stream >> value)) throw ScanError(pose_file, "expected 'tx ty tz' and 'rx ry rz'");
+  std::size_t count = 0;
+  const char* at = text.data();
+  const char* end = text.data() + text.size();
+  while (true) {
+    while (at < end && std::isspace(static_cast<unsigned char>(*at)))
+      ++at;
+    if (at == end) break;
+    const char* word_end = at;
+    while (word_end < end && !std::isspace(static_cast<unsigned char>(*word_end)))
+      ++word_end;
+    double value = 0.0;
+    const auto [parsed, failure] = std::from_chars(at, word_end, value);
+    if (failure != std::errc() || parsed != word_end || !std::isfinite(value) || count >= 6)
+      throw ScanError(pose_file, "expected six finite numbers 'tx ty tz' and 'rx ry rz', found '" +
+                                     std::string(at, std::min<std::size_t>(40, word_end - at)) +
+                                     "'");
+    values[count++] = value;
+    at = word_end;
+  }
+  if (count != 6)
+    throw ScanError(pose_file, "expected six numbers 'tx ty tz' and 'rx ry rz', found " +
+                                   std::to_string(count));
   return uosPoseToClearway(values);
 }
 
 // Text rows "x y z [intensity]", each turned into Clearway's frame by `convert`.
 Scan readTextPoints(const std::filesystem::path& file, const LoadOptions& options,
                     Point3f (*convert)(const std::array<double, 4>&)) {
-  const std::string text = readAsciiScan(file, options);
+  const std::string text = readAsciiScan(file);
   Scan scan;
   bool has_intensity = false;
   parseNumberRows(

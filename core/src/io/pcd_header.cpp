@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <sstream>
 
@@ -24,6 +25,16 @@ std::uint64_t parseCount(const std::filesystem::path& file, const std::string& k
   const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
   if (error != std::errc() || end != text.data() + text.size())
     throw ScanError(file, "PCD header: " + key + " '" + text + "' is not a whole number");
+  return value;
+}
+
+// A sensor pose with NaN or text in it would silently place the scan nowhere: refuse it.
+double parseFinite(const std::filesystem::path& file, const std::string& key,
+                   const std::string& text) {
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc() || end != text.data() + text.size() || !std::isfinite(value))
+    throw ScanError(file, "PCD header: " + key + " value '" + text + "' is not a finite number");
   return value;
 }
 
@@ -56,6 +67,19 @@ void checkBodySize(const std::filesystem::path& file, std::string_view prefix,
   }
   if (header.encoding == Encoding::kAscii && body == 0)
     throw ScanError(file, "truncated: no point data after the header");
+  if (header.encoding == Encoding::kAscii) {
+    // Every value takes at least one character and one separator (the file's last may lack its
+    // newline): a body shorter than that cannot hold the points, whatever PCL would allocate.
+    std::uint64_t values = 0;
+    for (const Field& field : header.fields)
+      values += std::uint64_t(field.count);
+    const std::uint64_t least = header.points * values * 2 - 1;
+    if (body < least)
+      throw ScanError(file, "truncated: PCD header promises " + std::to_string(header.points) +
+                                " points, at least " + std::to_string(least) +
+                                " bytes of text, but only " + std::to_string(body) +
+                                " bytes follow");
+  }
 }
 
 }  // namespace
@@ -111,7 +135,7 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
       has_points = true;
     } else if (key == "VIEWPOINT" && values.size() == 7) {
       for (std::size_t i = 0; i < 7; ++i)
-        header.viewpoint[i] = std::strtod(values[i].c_str(), nullptr);
+        header.viewpoint[i] = parseFinite(file, "VIEWPOINT", values[i]);
     } else if (key == "DATA" && values.size() == 1) {
       if (values[0] == "ascii")
         header.encoding = Encoding::kAscii;

@@ -12,6 +12,7 @@
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_lines.h"
 #include "pcd_header.h"
+#include "pcd_writer.h"
 #include "readers.h"
 
 namespace clearway {
@@ -148,24 +149,12 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
 
 void saveRosiPcd(const Scan& scan, const std::filesystem::path& file, PcdEncoding encoding) {
   const bool organised = scan.isOrganised();
-  pcl::PCLPointCloud2 cloud;
+  pcd::FloatCloud cloud;
+  cloud.field_names = {"x", "y", "z", "intensity", "alpha", "beta", "range"};
+  const std::size_t fields = cloud.field_names.size();
   cloud.width = static_cast<std::uint32_t>(organised ? scan.pointsPerLine() : scan.size());
   cloud.height = static_cast<std::uint32_t>(organised ? scan.lines.size() : 1);
-  const char* names[] = {"x", "y", "z", "intensity", "alpha", "beta", "range"};
-  std::uint32_t offset = 0;
-  for (const char* name : names) {
-    pcl::PCLPointField field;
-    field.name = name;
-    field.offset = offset;
-    field.datatype = pcl::PCLPointField::FLOAT32;
-    field.count = 1;
-    cloud.fields.push_back(field);
-    offset += 4;
-  }
-  cloud.point_step = offset;
-  cloud.row_step = cloud.point_step * cloud.width;
-  cloud.is_dense = false;
-  cloud.data.resize(std::size_t(cloud.row_step) * cloud.height);
+  cloud.values.resize(std::size_t(cloud.width) * cloud.height * fields);
 
   constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t line_index = 0; line_index < scan.lines.size(); ++line_index) {
@@ -183,38 +172,24 @@ void saveRosiPcd(const Scan& scan, const std::filesystem::path& file, PcdEncodin
                               scan.alpha.empty() ? kNaN : scan.alpha[i],
                               static_cast<float>(line.beta),
                               no_return ? kNaN : range};
-      std::memcpy(cloud.data.data() + i * cloud.point_step, record, sizeof record);
+      std::memcpy(cloud.values.data() + i * fields, record, sizeof record);
     }
   }
 
-  Eigen::Vector4f origin = Eigen::Vector4f::Zero();
-  Eigen::Quaternionf orientation = Eigen::Quaternionf::Identity();
   if (scan.sensor_pose) {
     const auto& pose = *scan.sensor_pose;
-    origin = Eigen::Vector4f(float(pose.position[0]), float(pose.position[1]),
-                             float(pose.position[2]), 0.0F);
     Eigen::Matrix3d rotation;
     rotation << pose.rotation[0], pose.rotation[1], pose.rotation[2], pose.rotation[3],
         pose.rotation[4], pose.rotation[5], pose.rotation[6], pose.rotation[7], pose.rotation[8];
-    orientation = Eigen::Quaternionf(Eigen::Quaterniond(rotation).cast<float>());
+    const Eigen::Quaterniond orientation(rotation);
+    cloud.viewpoint = {pose.position[0], pose.position[1], pose.position[2], orientation.w(),
+                       orientation.x(),  orientation.y(),  orientation.z()};
   }
 
+  // Our own buffered, checked writer: PCL's memory-maps the file and a full disk kills the
+  // process with SIGBUS before any error can be reported.
   writeFileAtomically(file, [&](const std::filesystem::path& temporary) {
-    pcl::console::setVerbosityLevel(pcl::console::L_ALWAYS);
-    pcl::PCDWriter writer;
-    int result = -1;
-    switch (encoding) {
-      case PcdEncoding::kAscii:
-        result = writer.writeASCII(temporary.string(), cloud, origin, orientation, 8);
-        break;
-      case PcdEncoding::kBinary:
-        result = writer.writeBinary(temporary.string(), cloud, origin, orientation);
-        break;
-      case PcdEncoding::kBinaryCompressed:
-        result = writer.writeBinaryCompressed(temporary.string(), cloud, origin, orientation);
-        break;
-    }
-    if (result != 0) throw ScanError(file, "cannot write the PCD (disk full or no permission?)");
+    pcd::writeFloatCloud(temporary, file, cloud, encoding);
   });
 }
 

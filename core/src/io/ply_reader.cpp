@@ -14,6 +14,10 @@
 namespace clearway::detail {
 namespace {
 
+// A PLY header longer than this is not one.
+constexpr std::size_t kMaxHeaderBytes = 1'000'000;
+constexpr std::uintmax_t kMaxPlyBytes = 8ULL << 30;
+
 enum class PlyFormat { kAscii, kBinaryLittle, kBinaryBig };
 
 struct PlyProperty {
@@ -79,7 +83,7 @@ PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& b
   std::size_t position = 0;
   while (true) {
     const std::size_t end = bytes.find('\n', position);
-    if (end == std::string::npos || end > 1'000'000)
+    if (end == std::string::npos || end > kMaxHeaderBytes)
       throw ScanError(file, "not a PLY file: no end_header");
     std::istringstream line(bytes.substr(position, end - position));
     position = end + 1;
@@ -125,6 +129,31 @@ PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& b
   return header;
 }
 
+// Refuses counts the file cannot hold: binary records must fit, and an ascii vertex needs at
+// least one character and one separator per property.
+void checkSizes(const std::filesystem::path& file, const PlyHeader& header,
+                const PlyElement& vertex, std::uintmax_t file_size) {
+  const std::uintmax_t body = file_size - std::min<std::uintmax_t>(file_size, header.body_offset);
+  if (header.format == PlyFormat::kAscii) {
+    const std::uintmax_t least = vertex.count * vertex.properties.size() * 2 - 1;
+    if (body < least)
+      throw ScanError(file, "truncated: " + std::to_string(vertex.count) +
+                                " vertices need at least " + std::to_string(least) +
+                                " bytes of text, " + std::to_string(body) + " follow the header");
+    return;
+  }
+  std::uintmax_t offset = 0;
+  for (const PlyElement& element : header.elements) {
+    const std::uintmax_t record = element.recordSize();
+    if (record > 0 && element.count > (body - std::min(body, offset)) / record)
+      throw ScanError(file, "truncated: " + std::to_string(element.count) + " " + element.name +
+                                " records of " + std::to_string(record) +
+                                " bytes do not fit in the file");
+    if (&element == &vertex) return;
+    offset += record * element.count;
+  }
+}
+
 int propertyIndex(const PlyElement& element, std::initializer_list<const char*> names) {
   for (const char* name : names)
     for (std::size_t i = 0; i < element.properties.size(); ++i)
@@ -135,8 +164,10 @@ int propertyIndex(const PlyElement& element, std::initializer_list<const char*> 
 }  // namespace
 
 Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
-  const std::string bytes = readWholeFile(file, 8ULL << 30);
-  const PlyHeader header = parsePlyHeader(file, bytes);
+  // The header alone first: the format is recognised and every count checked against the file's
+  // size before the body is read or anything allocated for it.
+  std::uintmax_t file_size = 0;
+  const PlyHeader header = parsePlyHeader(file, readFilePrefix(file, kMaxHeaderBytes, file_size));
   const auto vertex_it = std::find_if(header.elements.begin(), header.elements.end(),
                                       [](const PlyElement& e) { return e.name == "vertex"; });
   if (vertex_it == header.elements.end()) throw ScanError(file, "PLY has no vertex element");
@@ -146,6 +177,8 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
     throw ScanError(file, "header claims " + std::to_string(vertex.count) +
                               " vertices, more than the limit of " +
                               std::to_string(options.max_points));
+  checkSizes(file, header, vertex, file_size);
+  const std::string bytes = readWholeFile(file, kMaxPlyBytes);
   const int ix = propertyIndex(vertex, {"x"});
   const int iy = propertyIndex(vertex, {"y"});
   const int iz = propertyIndex(vertex, {"z"});
@@ -203,9 +236,6 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
     const bool has_list = std::any_of(vertex.properties.begin(), vertex.properties.end(),
                                       [](const PlyProperty& p) { return p.is_list; });
     if (has_list) throw ScanError(file, "PLY: list properties on vertices are not supported");
-    if (offset > bytes.size() || (bytes.size() - offset) / record < vertex.count)
-      throw ScanError(file, "truncated: " + std::to_string(vertex.count) + " vertices of " +
-                                std::to_string(record) + " bytes do not fit in the file");
     std::vector<std::size_t> property_offsets;
     std::size_t running = 0;
     for (const PlyProperty& property : vertex.properties) {

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "clearway/io/file_util.h"
+#include "clearway/io/result_manifest.h"
 #include "clearway/io/scan_error.h"
 #include "clearway/pose.h"
 
@@ -53,7 +54,7 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
                        const std::string& scan_name) {
   const ScanAnalysis& analysis = result.analysis;
   nlohmann::ordered_json report;
-  report["scan"] = scan_name;
+  report["scan"] = utf8FileName(scan_name);  // JSON needs UTF-8; lossless for any bytes
   report["ground_found"] = analysis.ground_found;
   if (!analysis.reason.empty()) report["reason"] = analysis.reason;
   report["robot"] = {
@@ -253,20 +254,27 @@ void writeScenePly(const SceneGeometry& scene, const std::filesystem::path& file
 void writeResultFolder(const PipelineResult& result, const SegmentationParams& params,
                        const std::string& scan_name, const std::filesystem::path& folder) {
   std::error_code error;
-  std::filesystem::create_directories(folder, error);
+  if (folder.has_parent_path()) std::filesystem::create_directories(folder.parent_path(), error);
   if (error) throw ScanError(folder, "cannot create the output folder: " + error.message());
-  writeLabelsPgm(result.map, folder / "labels.pgm");
-  writeReasonsPgm(result.map, folder / "reasons.pgm");
-  writeReachPgm(result.map, folder / "reach.pgm");
-  writeRosMap(result.map, folder / "map.pgm");
-  writeTraversabilityPng(result.map, folder / "traversability.png");
-  writeScenePly(result.scene, folder / "scene.ply");
-  std::string classes(result.point_classes.size(), '\0');
-  for (std::size_t i = 0; i < classes.size(); ++i)
-    classes[i] = char(result.point_classes[i]);
-  writeTextFileAtomically(folder / "point_classes.u8", classes);
-  // The report last: a folder with a report is a complete result.
-  writeTextFileAtomically(folder / "report.json", reportJson(result, params, scan_name));
+  // Written as a unit: everything goes into a new folder beside `folder`, which then replaces it,
+  // so a failure (full disk) leaves the old result whole and a reader never sees a mix.
+  replaceFolderAtomically(folder, [&](const std::filesystem::path& staging) {
+    writeLabelsPgm(result.map, staging / "labels.pgm");
+    writeReasonsPgm(result.map, staging / "reasons.pgm");
+    writeReachPgm(result.map, staging / "reach.pgm");
+    writeRosMap(result.map, staging / "map.pgm");
+    writeTraversabilityPng(result.map, staging / "traversability.png");
+    writeScenePly(result.scene, staging / "scene.ply");
+    std::string classes(result.point_classes.size(), '\0');
+    for (std::size_t i = 0; i < classes.size(); ++i)
+      classes[i] = char(result.point_classes[i]);
+    writeTextFileAtomically(staging / "point_classes.u8", classes);
+    writeTextFileAtomically(staging / "report.json", reportJson(result, params, scan_name));
+    // The manifest last: it ties the files of this run together (eval checks it).
+    writeResultManifest(staging,
+                        {"labels.pgm", "reasons.pgm", "reach.pgm", "map.pgm", "map.yaml", "traversability.png",
+                         "scene.ply", "point_classes.u8", "report.json"});
+  });
 }
 
 }  // namespace clearway

@@ -168,18 +168,29 @@ void splitAndMergeLine(const Scan& scan, std::uint32_t line_index, const LinePar
   }
 }
 
+// Largest Hough accumulator of one scan line [cells of 2 bytes]: 32 MB per thread.
+constexpr std::size_t kMaxHoughCells = std::size_t(16) << 20;
+
 // The paper's method: a Hough transform on the scan line's own plane (II-A), done on the point
 // set rather than a rasterised image (same accumulator, no image to draw).
 void houghLine(const Scan& scan, std::uint32_t line_index, const LineParams& params,
                std::vector<LineSegment>& out) {
   std::vector<LineSegment> found;
   const ScanLine& line = scan.lines[line_index];
+  const double angle_step = params.hough_angle_step_deg * std::numbers::pi / 180.0;
+  const int thetas = std::max(1, int(std::lround(std::numbers::pi / angle_step)));
+  const double rho_step = params.hough_distance_step;
+  // The accumulator spans +-range: one far point (a stray return 100 km away) would make it
+  // gigabytes. Points beyond the range the cell budget allows are left out of the vote; they
+  // cannot share a line with the scene anyway. Defaults: 180 angles, 0.02 m -> about 890 m.
+  const double range_limit = (double(kMaxHoughCells) / double(thetas) - 2.0) * rho_step / 2.0;
   std::vector<std::uint32_t> indices;
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   double max_range = 0.0;
   for (std::size_t i = line.first; i < line.first + line.count; ++i) {
     if (!scan.isValid(i)) continue;
     const Eigen::Vector3d p = at(scan, std::uint32_t(i));
+    if (!(p.norm() <= range_limit)) continue;
     indices.push_back(std::uint32_t(i));
     scatter += p * p.transpose();
     max_range = std::max(max_range, p.norm());
@@ -202,9 +213,6 @@ void houghLine(const Scan& scan, std::uint32_t line_index, const LineParams& par
     const Eigen::Vector3d p = at(scan, indices[k]);
     uv[k] = {p.dot(u_axis), p.dot(v_axis)};
   }
-  const double angle_step = params.hough_angle_step_deg * std::numbers::pi / 180.0;
-  const int thetas = std::max(1, int(std::lround(std::numbers::pi / angle_step)));
-  const double rho_step = params.hough_distance_step;
   const int rhos = int(std::ceil(2.0 * max_range / rho_step)) + 2;
   std::vector<double> cosines(static_cast<std::size_t>(thetas)),
       sines(static_cast<std::size_t>(thetas));

@@ -1,8 +1,10 @@
 #include "clearway/segmentation/params.h"
 
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <functional>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <variant>
@@ -142,6 +144,14 @@ bool isInteger(const Entry& entry) {
 
 }  // namespace
 
+std::string readableNumber(double value) {
+  // Shortest text that reads back as the same double: 1e+300, 0.005, 4294967298 (std::to_string
+  // would print 1e-300 as 0.000000).
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  return error == std::errc() ? std::string(text, end) : std::string("?");
+}
+
 double parameterValue(const SegmentationParams& params, const std::string& key) {
   // The table hands out pointers into a params object; reading through them changes nothing.
   const Field field = entryFor(key).field(const_cast<SegmentationParams&>(params));
@@ -151,7 +161,16 @@ double parameterValue(const SegmentationParams& params, const std::string& key) 
 void setParameterValue(SegmentationParams& params, const std::string& key, double value) {
   const Field field = entryFor(key).field(params);
   if (auto* integer = std::get_if<int*>(&field)) {
-    **integer = int(std::lround(value));
+    // A cast would wrap 4294967298 into 2; a value no int holds is refused, one an int holds but
+    // the range does not is left for validate() to name.
+    if (!(value >= double(std::numeric_limits<int>::min()) &&
+          value <= double(std::numeric_limits<int>::max())))
+      throw std::invalid_argument(key + " = " + readableNumber(value) + " is outside " +
+                                  readableNumber(entryFor(key).minimum) + " .. " +
+                                  readableNumber(entryFor(key).maximum));
+    if (value != std::round(value))
+      throw std::invalid_argument(key + " = " + readableNumber(value) + " is not a whole number");
+    **integer = int(value);
   } else {
     *std::get<double*>(field) = value;
   }
@@ -171,8 +190,8 @@ std::vector<std::string> SegmentationParams::validate() const {
   for (const Entry& entry : entries()) {
     const double value = parameterValue(*this, entry.key);
     if (!std::isfinite(value) || value < entry.minimum || value > entry.maximum)
-      reasons.push_back(std::string(entry.key) + " = " + std::to_string(value) + " is outside " +
-                        std::to_string(entry.minimum) + " .. " + std::to_string(entry.maximum));
+      reasons.push_back(std::string(entry.key) + " = " + readableNumber(value) + " is outside " +
+                        readableNumber(entry.minimum) + " .. " + readableNumber(entry.maximum));
   }
   if (robot.max_step >= robot.height)
     reasons.push_back("robot.max_step must be lower than robot.height");

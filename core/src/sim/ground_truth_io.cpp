@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clearway/io/file_util.h"
+#include "clearway/io/result_manifest.h"
 #include "clearway/sim/scene_io.h"
 
 namespace clearway::sim {
@@ -37,7 +38,7 @@ void saveGroundTruth(const GroundTruth& truth, const std::filesystem::path& file
   json document;
   document["format"] = "clearway-truth";
   document["version"] = 1;
-  document["scan"] = scan_file_name;
+  document["scan"] = utf8FileName(scan_file_name);  // JSON needs UTF-8; lossless for any bytes
   document["scene"] = sceneToJson(truth.scene);
   document["sensor"] = {{"lines", truth.sensor.lines},
                         {"points_per_line", truth.sensor.points_per_line},

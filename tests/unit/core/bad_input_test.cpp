@@ -174,6 +174,52 @@ TEST_F(BadInput, TruncatedAsciiPly) {
   expectScanError(write("short.ply", header), "truncated");
 }
 
+// Issue #12.6: PCL's reader allocated 2.4 GB for this 300-byte file before failing.
+TEST_F(BadInput, TinyAsciiPcdClaimingTwoHundredMillionPoints) {
+  expectScanError(
+      write("claims.pcd", pcdHeader("ascii", "200000000", "1", "200000000") + "1 2 3\n4 5 6\n"),
+      "truncated: PCD header promises 200000000 points");
+}
+
+TEST_F(BadInput, AsciiPlyClaimingMoreVerticesThanItsTextCanHold) {
+  const std::string header =
+      "ply\nformat ascii 1.0\nelement vertex 100000000\nproperty float x\nproperty float y\n"
+      "property float z\nend_header\n1 2 3\n";
+  expectScanError(write("claims_ascii.ply", header), "need at least 599999999 bytes");
+}
+
+// Issue #12.8: a NaN sensor pose placed the scan nowhere, silently.
+TEST_F(BadInput, NonFiniteViewpoint) {
+  std::string bytes = pcdHeader("ascii", "2", "1", "2") + "1 2 3\n4 5 6\n";
+  bytes.replace(bytes.find("VIEWPOINT 0 0 0 1 0 0 0"), 23, "VIEWPOINT 0 0 nan 1 0 0 0");
+  expectScanError(write("nan_viewpoint.pcd", bytes),
+                  "VIEWPOINT value 'nan' is not a finite number");
+  bytes.replace(bytes.find("nan"), 3, "1e999");
+  expectScanError(write("huge_viewpoint.pcd", bytes), "VIEWPOINT value '1e999'");
+}
+
+// Issue #12.8: trailing garbage, NaN and an unreadable .pose were accepted silently.
+TEST_F(BadInput, GarbledOrUnreadablePoseFile) {
+  const auto scan = write("scan003.3d", "100 50 300\n200 50 300\n");
+  const auto pose = directory / "scan003.pose";
+  auto expectPoseError = [&](const std::string& fragment) {
+    try {
+      loadScan(scan);
+      ADD_FAILURE() << "the pose file was accepted";
+    } catch (const ScanError& error) {
+      EXPECT_NE(std::string(error.what()).find(pose.string()), std::string::npos) << error.what();
+      EXPECT_NE(std::string(error.what()).find(fragment), std::string::npos) << error.what();
+    }
+  };
+  test::writeBytes(pose, "1 2 3\n4 5 6 trailing garbage\n");
+  expectPoseError("'trailing'");
+  test::writeBytes(pose, "1 2 nan\n4 5 6\n");
+  expectPoseError("six finite numbers");
+  std::filesystem::remove(pose);
+  std::filesystem::create_directory(pose);
+  expectPoseError("directory");
+}
+
 TEST_F(BadInput, MaxPointsLimitAppliesToText) {
   LoadOptions options;
   options.max_points = 2;

@@ -219,7 +219,10 @@ TEST_F(Evaluate, SegmentationOfAnotherScanIsRefused) {
 }
 
 TEST(RobotFit, StepsAndLowObstaclesStopTheRobot) {
-  const RobotFit hallway(*sim::builtinScene("hallway"));
+  // RobotFit keeps a reference to its scene: the scene must outlive it (ASan found the temporary
+  // this test used to pass: stack-use-after-scope).
+  const sim::Scene scene = *sim::builtinScene("hallway");
+  const RobotFit hallway(scene);
   const sim::RobotBox robot{0.85, 1.2, 1.5, 0.1};
   EXPECT_TRUE(hallway.fits(robot, {1.0, 0.0, 0.0}, 0.0));
   EXPECT_TRUE(hallway.fits(robot, {5.0, 0.8, 0.4}, 0.0)) << "on the ramp";

@@ -136,6 +136,11 @@ struct ParameterInfo {
 std::vector<ParameterInfo> describeParameters();
 // Reads or writes one parameter by key; throws std::invalid_argument for an unknown key.
 double parameterValue(const SegmentationParams& params, const std::string& key);
+// Sets one parameter; throws std::invalid_argument for a whole-number parameter given a fraction
+// or a value no int holds (it would wrap). Range checks are validate()'s.
 void setParameterValue(SegmentationParams& params, const std::string& key, double value);
+
+// The shortest text that reads back as `value` (1e+300, 0.005): for messages.
+std::string readableNumber(double value);
 
 }  // namespace clearway
