@@ -12,7 +12,8 @@ namespace clearway::cli {
 
 std::set<std::string> withRobotOptions(std::set<std::string> options);
 // --params FILE first, then --robot-width/--robot-length/--robot-height/--max-step/--max-slope,
-// --max-stair-rise/--max-stair-slope and --method; throws UsageError with the validation reason when the result is invalid.
+// --max-stair-rise/--max-stair-slope and --method; throws UsageError with the validation reason
+// when the result is invalid.
 SegmentationParams paramsFromArguments(const Arguments& arguments);
 
 }  // namespace clearway::cli

@@ -272,8 +272,8 @@ void writeResultFolder(const PipelineResult& result, const SegmentationParams& p
     writeTextFileAtomically(staging / "report.json", reportJson(result, params, scan_name));
     // The manifest last: it ties the files of this run together (eval checks it).
     writeResultManifest(staging,
-                        {"labels.pgm", "reasons.pgm", "reach.pgm", "map.pgm", "map.yaml", "traversability.png",
-                         "scene.ply", "point_classes.u8", "report.json"});
+                        {"labels.pgm", "reasons.pgm", "reach.pgm", "map.pgm", "map.yaml",
+                         "traversability.png", "scene.ply", "point_classes.u8", "report.json"});
   });
 }
 

@@ -42,7 +42,6 @@ std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& par
          " planes, all walls; is the floor out of view? move the robot or the arm and scan again)";
 }
 
-
 void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
   const double cos_max_slope = std::cos(params.max_slope_deg * std::numbers::pi / 180.0);
   analysis.ground_planes.clear();

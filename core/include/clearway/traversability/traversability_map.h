@@ -28,11 +28,11 @@ inline constexpr int kCellLabelCount = 6;
 // Why a cell is red (or why the robot cannot stand there).
 enum class CellReason : std::uint8_t {
   kNone = 0,
-  kWall = 1,        // something stands in the way from the ground up
-  kTooLow = 2,      // an overhang lower than the robot
-  kTooSteep = 3,    // a step or drop higher than the robot can take
-  kTooNarrow = 4,   // free, but the robot's box does not fit in any orientation
-  kOtherLevel = 5,  // a surface the robot cannot reach (a table top, a platform)
+  kWall = 1,            // something stands in the way from the ground up
+  kTooLow = 2,          // an overhang lower than the robot
+  kTooSteep = 3,        // a step or drop higher than the robot can take
+  kTooNarrow = 4,       // free, but the robot's box does not fit in any orientation
+  kOtherLevel = 5,      // a surface the robot cannot reach (a table top, a platform)
   kStairsTooSteep = 6,  // stairs whose risers or flight are steeper than the robot climbs
   // Orange, not green: the ground samples under the robot's box are so far apart that an obstacle
   // taller than the robot's step could stand between them unseen.
