@@ -285,11 +285,11 @@ std::vector<vtkSmartPointer<vtkProp>> robotProps(const PathPose& pose, const Rob
     const Eigen::Vector3d sign((k & 1) ? 1. : -1., (k & 2) ? 1. : -1., (k & 4) ? 1. : -1.);
     return middle + axes * sign.cwiseProduct(half);
   };
-  for (int a = 0; a < 8; ++a)
+  for (int from = 0; from < 8; ++from)
     for (const int bit : {1, 2, 4})
-      if (!(a & bit)) {
-        const vtkIdType ids[2] = {edges.add(corner(a), colour.lighter(150)),
-                                  edges.add(corner(a | bit), colour.lighter(150))};
+      if (!(from & bit)) {
+        const vtkIdType ids[2] = {edges.add(corner(from), colour.lighter(150)),
+                                  edges.add(corner(from | bit), colour.lighter(150))};
         edges.cells->InsertNextCell(2, ids);
       }
   auto edge_actor = edges.actor(true);

@@ -292,9 +292,8 @@ class FootprintTester {
 // `map` (whose grid is set).
 // With `reach_into`, also searches where the robot can get from its own pose (map.robot_pose),
 // with this placement's tests, into that map's reach layer.
-void placeRobot(const ScanAnalysis& analysis, const CellClasses& classes, const RobotParams& robot,
-                const MapParams& params, int threads, TraversabilityMap& map,
-                TraversabilityMap* reach_into = nullptr) {
+void placeRobot(const CellClasses& classes, const RobotParams& robot, const MapParams& params,
+                int threads, TraversabilityMap& map, TraversabilityMap* reach_into = nullptr) {
   const MapParams& grid_params = params;
   auto maskOf = [&](auto predicate) {
     cv::Mat mask(map.grid.height, map.grid.width, CV_8UC1);
@@ -512,12 +511,12 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   const bool has_sparse =
       std::any_of(classes.sparse.begin(), classes.sparse.end(), [](std::uint8_t s) { return s; });
   if (!has_sparse) {
-    placeRobot(analysis, classes, robot, grid_params, threads, map, &map);
+    placeRobot(classes, robot, grid_params, threads, map, &map);
   } else {
     TraversabilityMap loose = map;
     // The robot may drive over sparse ground with care: reachability uses the loose placement.
-    placeRobot(analysis, classes, robot, grid_params, threads, loose, &map);
-    placeRobot(analysis, detail::withSparseBlocked(classes), robot, grid_params, threads, map);
+    placeRobot(classes, robot, grid_params, threads, loose, &map);
+    placeRobot(detail::withSparseBlocked(classes), robot, grid_params, threads, map);
     auto fits = [](std::uint8_t label) {
       return label == std::uint8_t(CellLabel::kTraversable) ||
              label == std::uint8_t(CellLabel::kCareful) ||

@@ -110,7 +110,7 @@ TEST_F(RemoteLink, TenThousandMalformedFramesWhileAGoodConsoleIsServed) {
         if (good.state() == ScannerDevice::State::kIdle && scans_started == scans_complete) {
           ++scans_started;
           result.done = false;
-          good.startScan({100, 0.0});
+          good.startScan({100, 0.0, {}});
         }
         return sent >= kFrames && live == 0;
       },

@@ -107,7 +107,7 @@ TEST_F(RemoteLink, ScanEndToEndEqualsTheSimulatorsScanAndTheRobotsFile) {
   rosi.connectDevice();
   ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
   EXPECT_EQ(rosi.role(), Role::kControl);
-  rosi.startScan({kGarageLines, 0.0});
+  rosi.startScan({kGarageLines, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return result.done; }));
   ASSERT_TRUE(result.complete) << result.failures.join("; ").toStdString();
   const Scan expected = simulatorScan(kGarageLines);
@@ -148,7 +148,7 @@ TEST_F(RemoteLink, ALinkCutMidScanIsResumedWithNothingLostOrDuplicated) {
           [&](const QString&, bool complete) { robot_saved_complete = complete; });
   rosi.connectDevice();
   ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
-  rosi.startScan({kGarageLines, 0.0});
+  rosi.startScan({kGarageLines, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return result.done; }));
   EXPECT_TRUE(robot_saved_complete);  // the robot kept scanning and saved it whole
   EXPECT_EQ(proxy.cuts(), 1);
@@ -180,7 +180,7 @@ TEST_F(RemoteLink, AScanFinishedWhileTheLinkWasDownArrivesWhole) {
   });
   rosi.connectDevice();
   ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
-  rosi.startScan({kGarageLines, 0.0});
+  rosi.startScan({kGarageLines, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return result.done; }));
   EXPECT_EQ(robot_finished_while_lost, 1);
   ASSERT_TRUE(result.complete) << result.failures.join("; ").toStdString();
@@ -206,7 +206,7 @@ TEST_F(RemoteLink, OneMegabitLinkTimeFromLastLineToResult) {
     rosi.connectDevice();
     ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
     const qint64 start_ms = clock.elapsed();
-    rosi.startScan({kGarageLines, 0.0});
+    rosi.startScan({kGarageLines, 0.0, {}});
     ASSERT_TRUE(waitFor([&] { return result.done; }));
     ASSERT_TRUE(result.complete);
     expectSameScan(*result.scan, simulatorScan(kGarageLines));
@@ -230,7 +230,7 @@ TEST_F(RemoteLink, CancelKeepsWhatArrivedOnBothSidesMarkedPartial) {
   connect(&rosi, &RemoteRosi::progress, [&received](int lines, int) { received = lines; });
   rosi.connectDevice();
   ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
-  rosi.startScan({kGarageLines, 0.0});
+  rosi.startScan({kGarageLines, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return received >= 40; }));
   rosi.cancelScan();
   ASSERT_TRUE(waitFor([&] { return result.done; }));
@@ -253,7 +253,7 @@ TEST_F(RemoteLink, DisconnectingMidScanKeepsWhatArrivedAndTheRobotItsCopy) {
   connect(&rosi, &RemoteRosi::progress, [&received](int lines, int) { received = lines; });
   rosi.connectDevice();
   ASSERT_TRUE(waitFor([&] { return rosi.state() == ScannerDevice::State::kIdle; }));
-  rosi.startScan({kGarageLines, 0.0});
+  rosi.startScan({kGarageLines, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return received >= 40; }));
   rosi.disconnectDevice();
   ASSERT_TRUE(result.done);  // handed over at once, marked incomplete
@@ -272,7 +272,7 @@ TEST_F(RemoteLink, WhileTheRobotIsGoneTheConsoleSaysSoAndStartsNothing) {
   server_.reset();  // the robot's server goes away
   ASSERT_TRUE(waitFor([&] { return rosi.linkStatus().contains("link lost"); }));
   EXPECT_TRUE(rosi.linkStatus().contains("reconnecting")) << rosi.linkStatus().toStdString();
-  rosi.startScan({50, 0.0});
+  rosi.startScan({50, 0.0, {}});
   ASSERT_FALSE(result.failures.isEmpty());
   EXPECT_TRUE(result.failures.last().contains("link to the robot is down"));
   EXPECT_EQ(rosi.state(), ScannerDevice::State::kIdle);
@@ -327,12 +327,12 @@ TEST_F(RemoteLink, ASecondControllingConsoleMayOnlyWatch) {
   EXPECT_EQ(second.role(), Role::kWatch);
   EXPECT_TRUE(note.contains("controls the scanner")) << note.toStdString();
   // The watcher cannot start a scan...
-  second.startScan({50, 0.0});
+  second.startScan({50, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return !second_result.failures.isEmpty(); }));
   EXPECT_TRUE(second_result.failures.front().contains("watching"));
   EXPECT_EQ(second.state(), ScannerDevice::State::kIdle);
   // ...but sees the controller's scan arrive, whole.
-  first.startScan({kGarageLines, 0.0});
+  first.startScan({kGarageLines, 0.0, {}});
   ASSERT_TRUE(waitFor([&] { return first_result.done && second_result.done; }));
   ASSERT_TRUE(first_result.complete);
   ASSERT_TRUE(second_result.complete);
