@@ -131,16 +131,8 @@ std::optional<Reply> parseReply(const std::string& line) {
   std::istringstream words(line);
   std::string keyword;
   if (!(words >> keyword)) return std::nullopt;
-  if (keyword == "OK") {
-    Ok ok;
-    words >> ok.command;
-    return ok;
-  }
-  if (keyword == "ERR") {
-    Error error;
-    std::getline(words >> std::ws, error.reason);
-    return error;
-  }
+  if (const auto acknowledgement = line_protocol::parseAcknowledgement(line))
+    return std::visit([](const auto& reply) { return Reply(reply); }, *acknowledgement);
   if (keyword != "POSE") return std::nullopt;
   std::vector<double> values;
   std::string word;

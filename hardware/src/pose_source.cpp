@@ -4,7 +4,7 @@
 #include <cmath>
 #include <ctime>
 
-#include "clearway/hardware/turntable_protocol.h"
+#include "clearway/hardware/line_protocol.h"
 #include "serial_port.h"
 
 namespace clearway::hardware {
@@ -76,7 +76,7 @@ PoseReading ArmPoseSource::doRead(int timeout_ms) {
     reading.error = "cannot write to the arm controller on " + port_;
     return reading;
   }
-  turntable::LineSplitter lines;
+  line_protocol::LineSplitter lines;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
     if (!detail::waitReadable(port.fd(), 20)) continue;

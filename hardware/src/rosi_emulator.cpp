@@ -85,7 +85,7 @@ struct RosiEmulator::Impl {
   // changed by MOVE (that thread) or moveArm() (any thread).
   mutable std::mutex pose_mutex;
   Eigen::Isometry3d robot_from_tool = Eigen::Isometry3d::Identity();
-  turntable::LineSplitter arm_lines;
+  line_protocol::LineSplitter arm_lines;
   // The laser's output queue (serving thread only): bytes not yet taken by the terminal, and
   // where in the stream each queued line ends.
   static constexpr std::size_t kMaxQueuedBytes = 4 << 20;  // ~5,700 lines: minutes of a stall

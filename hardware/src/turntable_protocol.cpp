@@ -7,7 +7,6 @@
 namespace clearway::hardware::turntable {
 namespace {
 
-constexpr std::size_t kMaxLine = 256;
 constexpr double kMillidegrees = 1000.0;
 
 }  // namespace
@@ -36,16 +35,8 @@ std::optional<Reply> parseReply(const std::string& line) {
   std::istringstream words(line);
   std::string keyword;
   if (!(words >> keyword)) return std::nullopt;
-  if (keyword == "OK") {
-    Ok ok;
-    words >> ok.command;
-    return ok;
-  }
-  if (keyword == "ERR") {
-    Error error;
-    std::getline(words >> std::ws, error.reason);
-    return error;
-  }
+  if (const auto acknowledgement = line_protocol::parseAcknowledgement(line))
+    return std::visit([](const auto& reply) { return Reply(reply); }, *acknowledgement);
   if (keyword == "ANGLE") {
     AngleSample sample;
     std::int64_t millidegrees = 0;
@@ -62,22 +53,6 @@ std::optional<Reply> parseReply(const std::string& line) {
     return status;
   }
   return std::nullopt;
-}
-
-std::vector<std::string> LineSplitter::feed(const std::string& bytes) {
-  std::vector<std::string> lines;
-  for (char c : bytes) {
-    if (c == '\n') {
-      if (!pending_.empty() && pending_.back() == '\r') pending_.pop_back();
-      lines.push_back(pending_);
-      pending_.clear();
-    } else if (pending_.size() < kMaxLine) {
-      pending_.push_back(c);
-    } else {
-      pending_.clear();  // an overlong line is noise: drop it and wait for the next one
-    }
-  }
-  return lines;
 }
 
 void AngleTrack::add(const AngleSample& sample) {

@@ -14,6 +14,8 @@
 #include <string>
 #include <variant>
 
+#include "clearway/hardware/line_protocol.h"
+
 namespace clearway::hardware {
 
 // A rigid transform as the protocols and files write it: a translation and a unit quaternion.
@@ -51,12 +53,8 @@ std::string poseQuery();                                    // "POSE?\n"
 std::string moveCommand(double tilt_deg, double roll_deg);  // "MOVE <tilt> <roll>\n"
 std::string poseReply(const RigidPose& robot_from_tool);    // "POSE tx ty tz qw qx qy qz\n"
 
-struct Ok {
-  std::string command;
-};
-struct Error {
-  std::string reason;
-};
+using line_protocol::Error;
+using line_protocol::Ok;
 using Reply = std::variant<RigidPose, Ok, Error>;
 // Parses one line (without its '\n'); nullopt for a line that is no reply or a malformed POSE.
 std::optional<Reply> parseReply(const std::string& line);

@@ -16,6 +16,8 @@
 #include <variant>
 #include <vector>
 
+#include "clearway/hardware/line_protocol.h"
+
 namespace clearway::hardware::turntable {
 
 std::string homeCommand();
@@ -24,12 +26,9 @@ std::string startCommand();
 std::string stopCommand();
 std::string statusCommand();
 
-struct Ok {
-  std::string command;
-};
-struct Error {
-  std::string reason;
-};
+using line_protocol::Error;
+using line_protocol::LineSplitter;
+using line_protocol::Ok;
 struct AngleSample {
   std::int64_t time_us = 0;
   double angle_deg = 0.0;  // [0, 360)
@@ -43,15 +42,6 @@ using Reply = std::variant<Ok, Error, AngleSample, Status>;
 
 // Parses one line (without its '\n'); nullopt for a line that is not a reply (noise, a cut line).
 std::optional<Reply> parseReply(const std::string& line);
-
-// Cuts a byte stream into lines; partial lines wait for the rest. Overlong lines are dropped.
-class LineSplitter {
- public:
-  std::vector<std::string> feed(const std::string& bytes);
-
- private:
-  std::string pending_;
-};
 
 // Angle samples over time, unwrapped across full turns; the angle at any time between two samples
 // is interpolated linearly.
