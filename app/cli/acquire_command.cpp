@@ -12,6 +12,7 @@
 #include "clearway/hardware/serial_acquisition.h"
 #include "clearway/io/scan_error.h"
 #include "commands.h"
+#include "mount_options.h"
 
 namespace clearway::cli {
 namespace {
@@ -59,16 +60,6 @@ class StopSignals {
   struct sigaction previous_int_ {};
   struct sigaction previous_term_ {};
 };
-
-hardware::RigidPose poseOption(const Arguments& arguments, const std::string& name,
-                               const hardware::RigidPose& fallback) {
-  const auto text = arguments.option(name);
-  if (!text) return fallback;
-  std::string error;
-  const auto pose = hardware::parsePose(*text, error);
-  if (!pose) throw UsageError("--" + name + ": " + error);
-  return *pose;
-}
 
 std::string lineCounts(const hardware::Acquisition& acquisition) {
   std::string text = std::to_string(acquisition.scan.lines.size()) + " lines in the scan, " +
@@ -153,17 +144,13 @@ int runAcquire(const std::vector<std::string>& words) {
 
   // Where the scanner is: the arm's pose composed with the RoSi's mounting on the tool, or,
   // without an arm, a fixed mounting on the robot.
-  if (const auto arm = arguments.option("arm")) {
-    hardware::ArmPoseSource source(
-        *arm, poseOption(arguments, "mount", hardware::defaultToolFromScanner()));
-    const hardware::PoseReading reading = source.read(options.answer_timeout_ms);
+  if (const auto source = poseSourceOption(arguments)) {
+    const hardware::PoseReading reading = source->read(options.answer_timeout_ms);
     if (!reading.ok()) {
       std::cerr << "clearway-cli acquire: " << reading.error << " (no scan started)\n";
       return 1;
     }
     options.pose = reading;
-  } else if (arguments.option("mount")) {
-    options.pose = hardware::FixedMounting(poseOption(arguments, "mount", {})).read(0);
   }
 
   const std::filesystem::path journal = hardware::journalPathFor(output);

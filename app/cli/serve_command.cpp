@@ -19,6 +19,7 @@
 #include "clearway/sim/scene_io.h"
 #include "commands.h"
 #include "host_port.h"
+#include "mount_options.h"
 
 namespace clearway::cli {
 namespace {
@@ -44,7 +45,11 @@ int initOnly(const std::string& dir) {
 }
 
 std::unique_ptr<hardware::ScannerDevice> makeDevice(const Arguments& arguments) {
+  const std::shared_ptr<hardware::PoseSource> pose_source = poseSourceOption(arguments);
   if (const auto scene_name = arguments.option("simulate")) {
+    // The simulator scans from its scene's own pose and writes it into every scan.
+    if (pose_source)
+      throw UsageError("--arm and --mount are for the serial RoSi (--lms, --turntable)");
     std::optional<sim::Scene> scene = sim::builtinScene(*scene_name);
     if (!scene) {
       if (!scene_name->ends_with(".json")) throw UsageError("unknown scene '" + *scene_name + "'");
@@ -57,9 +62,13 @@ std::unique_ptr<hardware::ScannerDevice> makeDevice(const Arguments& arguments) 
   const auto lms = arguments.option("lms"), table = arguments.option("turntable");
   if (!lms || !table)
     throw UsageError("give the devices (--lms PORT --turntable PORT) or --simulate SCENE");
-  return std::make_unique<hardware::SerialRosi>(
+  auto device = std::make_unique<hardware::SerialRosi>(
       QString::fromStdString(*lms), QString::fromStdString(*table),
       int(arguments.integer("baud", 38400, 9600, 500000)));
+  // Asked before every scan; a scan whose pose cannot be read is not started (it could put a
+  // wall on the floor), and the console is told why.
+  if (pose_source) device->setPoseSource(pose_source);
+  return device;
 }
 
 void log(const QString& line) {
@@ -72,10 +81,12 @@ void log(const QString& line) {
 int runServe(const std::vector<std::string>& words) {
   const Arguments arguments(words, {},
                             {"init-credentials", "credentials", "listen", "simulate", "speed",
-                             "lms", "turntable", "baud", "storage", "seconds"});
-  arguments.expectPositional(0,
-                             "clearway-cli serve --credentials DIR --listen HOST:PORT "
-                             "(--simulate SCENE | --lms PORT --turntable PORT) [--storage DIR]");
+                             "lms", "turntable", "arm", "mount", "baud", "storage", "seconds"});
+  arguments.expectPositional(
+      0,
+      "clearway-cli serve --credentials DIR --listen HOST:PORT "
+      "(--simulate SCENE | --lms PORT --turntable PORT [--arm PORT] [--mount POSE]) "
+      "[--storage DIR]");
   if (const auto dir = arguments.option("init-credentials")) return initOnly(*dir);
   const auto credentials_dir = arguments.option("credentials");
   const auto listen = arguments.option("listen");

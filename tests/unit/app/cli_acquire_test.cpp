@@ -69,6 +69,7 @@ class Background {
     return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   }
   std::string err() const { return test::readBytes(err_); }
+  std::string out() const { return test::readBytes(out_); }
 
  private:
   pid_t pid_ = -1;
@@ -165,6 +166,50 @@ TEST(CliAcquire, TheArmsPoseTravelsWithTheScanAndTheGarageDoorIsJudgedRight) {
     ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
     EXPECT_EQ(test::connectedInMap(run, inside, outside), width < 0.9);
   }
+}
+
+// serve on the robot with the arm: every scan it serves carries the pose the emulator scanned
+// from, as acquire --arm's do; the simulator has its own pose and refuses the options.
+TEST(CliAcquire, ServeWithTheArmServesScansWithTheirPose) {
+  test::TemporaryDirectory directory;
+  hardware::EmulatorOptions options{4.0, 5};  // 2 s a turn
+  options.arm_tilt_deg = -20;
+  options.arm_roll_deg = 45;
+  hardware::RosiEmulator emulator(*sim::builtinScene("garage"), options);
+  const std::string credentials = (directory / "creds").string();
+  ASSERT_EQ(runCli("serve --init-credentials " + shellQuote(credentials)).exit_code, 0);
+
+  const auto refused = runCli("serve --credentials " + shellQuote(credentials) +
+                              " --listen 127.0.0.1:0 --simulate garage --mount 0,0,1,1,0,0,0");
+  EXPECT_NE(refused.exit_code, 0);
+  EXPECT_NE(refused.err.find("--arm and --mount are for the serial RoSi"), std::string::npos)
+      << refused.err;
+
+  Background serve({"serve", "--credentials", credentials, "--listen", "127.0.0.1:0", "--lms",
+                    emulator.lmsPort(), "--turntable", emulator.turntablePort(), "--arm",
+                    emulator.armPort(), "--storage", (directory / "robot").string()},
+                   directory.path());
+  std::string port;
+  ASSERT_TRUE(waitFor([&] {
+    const std::string out = serve.out();
+    const auto at = out.find("127.0.0.1:");
+    if (at == std::string::npos) return false;
+    port = out.substr(at + 10, out.find(' ', at) - at - 10);
+    return true;
+  })) << serve.err();
+  const fs::path scan = directory / "got.pcd";
+  const auto acquired =
+      runCli("acquire --remote 127.0.0.1:" + port + " --credentials " + shellQuote(credentials) +
+             " --lines 40 -o " + shellQuote(scan.string()));
+  ASSERT_EQ(acquired.exit_code, 0) << acquired.err << serve.err();
+  const Scan loaded = loadScan(scan);
+  ASSERT_TRUE(loaded.sensor_pose);
+  const hardware::RigidPose truth = emulator.worldFromScanner();
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(loaded.sensor_pose->position[std::size_t(i)], truth.translation[i], 1e-4);
+  const Eigen::Matrix3d r = truth.rotation.toRotationMatrix();
+  for (int i = 0; i < 9; ++i)
+    EXPECT_NEAR(loaded.sensor_pose->rotation[std::size_t(i)], r(i / 3, i % 3), 1e-4);
 }
 
 TEST(CliAcquire, SigtermStopsTheDevicesSavesThePartialScanAndTheNextAcquireWorks) {
