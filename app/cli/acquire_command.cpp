@@ -7,6 +7,7 @@
 
 #include "arguments.h"
 #include "clearway/hardware/acquisition_files.h"
+#include "clearway/hardware/journal_recovery.h"
 #include "clearway/hardware/pose_source.h"
 #include "clearway/hardware/scan_journal.h"
 #include "clearway/hardware/serial_acquisition.h"
@@ -61,16 +62,6 @@ class StopSignals {
   struct sigaction previous_term_ {};
 };
 
-std::string lineCounts(const hardware::Acquisition& acquisition) {
-  std::string text = std::to_string(acquisition.scan.lines.size()) + " lines in the scan, " +
-                     std::to_string(acquisition.lines_received) + " received";
-  if (acquisition.dropped_lines > 0)
-    text += ", " + std::to_string(acquisition.dropped_lines) + " dropped (corrupt telegrams)";
-  if (acquisition.untagged_lines > 0)
-    text += ", " + std::to_string(acquisition.untagged_lines) + " without a turntable angle";
-  return text;
-}
-
 // Saves what the acquisition holds; the journal is removed only once the scan is safely on disk.
 int finish(const hardware::Acquisition& acquisition, const std::filesystem::path& output,
            const std::filesystem::path& journal, bool partial_beside) {
@@ -81,8 +72,8 @@ int finish(const hardware::Acquisition& acquisition, const std::filesystem::path
               << " lines x 180 points: " << output.string() << "\n";
     return 0;
   }
-  std::cerr << "clearway-cli acquire: " << acquisition.error << " (" << lineCounts(acquisition)
-            << ")\n";
+  std::cerr << "clearway-cli acquire: " << acquisition.error << " ("
+            << hardware::describeLines(acquisition) << ")\n";
   if (!acquisition.journal_error.empty())
     std::cerr << "clearway-cli acquire: " << acquisition.journal_error << "\n";
   if (acquisition.scan.empty()) {
@@ -99,14 +90,9 @@ int finish(const hardware::Acquisition& acquisition, const std::filesystem::path
 }
 
 int recover(const std::filesystem::path& journal, const std::filesystem::path& output) {
-  const hardware::Acquisition acquisition = hardware::recoverJournal(journal);
-  if (acquisition.scan.empty())
-    throw ScanError(journal, "the journal holds no line that could be placed (" +
-                                 lineCounts(acquisition) + ")");
-  hardware::saveAcquisition(acquisition, output);
-  std::filesystem::remove(journal);
-  std::cout << "recovered " << lineCounts(acquisition) << " from " << journal.string() << ": "
-            << output.string() << (acquisition.complete ? "\n" : " (incomplete)\n");
+  const hardware::Acquisition acquisition = hardware::recoverJournalInto(journal, output);
+  std::cout << "recovered " << hardware::describeLines(acquisition) << " from " << journal.string()
+            << ": " << output.string() << (acquisition.complete ? "\n" : " (incomplete)\n");
   return acquisition.complete ? 0 : 1;
 }
 

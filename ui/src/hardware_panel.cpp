@@ -185,6 +185,9 @@ void HardwarePanel::setScanFolder(const QString& folder) {
 QString HardwarePanel::scanFolder() const {
   return d_->folder;
 }
+bool HardwarePanel::scanning() const {
+  return d_->scanner && d_->scanner->state() == ScannerDevice::State::kScanning;
+}
 void HardwarePanel::setSpeedup(double speedup) {
   d_->speedup = speedup;
   if (auto* simulated = dynamic_cast<hardware::SimulatedRosi*>(d_->scanner.get()))

@@ -42,6 +42,10 @@ void MainWindow::buildMenus() {
       button->click();
   });
   next->setShortcut(Qt::Key_PageDown);
+  d_->recover_action = file->addAction(tr("&Recover interrupted acquisitions"), this,
+                                       &MainWindow::recoverInterruptedAcquisitions);
+  d_->recover_action->setObjectName("recoverAction");
+  d_->recover_action->setEnabled(false);
   auto* exports = file->addMenu(tr("&Export"));
   const std::tuple<QString, ExportKind, QString> kinds[] = {
       {tr("Map picture with legend and scale (PNG)..."), ExportKind::kMapPicture, "PNG (*.png)"},

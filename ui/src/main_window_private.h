@@ -20,6 +20,7 @@ class QDockWidget;
 
 namespace clearway::ui {
 
+class JournalRecovery;
 class ScanPanel;
 
 struct MainWindow::Private {
@@ -35,6 +36,8 @@ struct MainWindow::Private {
   QAction* goal_action = nullptr;
   QAction* floor_action = nullptr;
   QAction* measure_action = nullptr;
+  QAction* recover_action = nullptr;
+  JournalRecovery* recovery = nullptr;
   // An estimated up direction the operator has not confirmed: nothing traversable is drawn.
   bool withheld = false;
   // The last "Can it get there?" goal (map frame), re-planned when the robot changes.

@@ -22,6 +22,8 @@ class HardwarePanel : public QWidget {
   // Where acquisitions are saved (default: the application data folder's "scans").
   void setScanFolder(const QString& folder);
   QString scanFolder() const;
+  // True while an acquisition runs (its journal is being written).
+  bool scanning() const;
   // Faster than real time, for demonstrations and tests.
   void setSpeedup(double speedup);
 

@@ -54,6 +54,13 @@ class MainWindow : public QMainWindow {
   // What the views show (the result as drawn, withheld cells included).
   const SessionResult& shownResult() const;
 
+  // Acquisitions that did not finish (main_window_recovery.cpp): their journals in the scanner's
+  // scans folder are turned into SCAN-recovered.pcd in the background, the last one is opened,
+  // and journalsRecovered follows. Nothing happens while a scan is being acquired.
+  void recoverInterruptedAcquisitions();
+  // How many journals wait for recovery (also the File menu's action and a status message).
+  int checkUnfinishedJournals();
+
   // What the views show is now the previous scan (an acquisition started).
   void markShownAsPrevious();
   bool shownIsPrevious() const;
@@ -71,6 +78,7 @@ class MainWindow : public QMainWindow {
   void resultShown(bool trusted);
   void failureShown(const QString& reason);
   void exported(const QString& path);
+  void journalsRecovered(const QStringList& scans, const QStringList& problems);
 
  protected:
   void dragEnterEvent(QDragEnterEvent* event) override;
