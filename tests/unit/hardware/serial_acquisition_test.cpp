@@ -28,13 +28,15 @@ double meanValidRange(const Scan& scan) {
 
 TEST(SerialAcquisition, OneRevolutionFromTheEmulatorLooksLikeTheSimulatorsScan) {
   const sim::Scene scene = *sim::builtinScene("garage");
-  RosiEmulator emulator(scene, {20.0, 3});
+  // 5x real time (a turn in 1.6 s, a line each 5 ms): at 20x a line came every 1.3 ms and a
+  // machine busy with parallel builds stamped some late enough to shift the count.
+  RosiEmulator emulator(scene, {5.0, 3});
   const Acquisition acquisition = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort());
   ASSERT_TRUE(acquisition.complete) << acquisition.error;
   const Scan& scan = acquisition.scan;
   EXPECT_TRUE(scan.isOrganised());
   EXPECT_EQ(scan.pointsPerLine(), 180u);
-  // 37.5 lines/s at 45 deg/s is 300 lines a turn, also at a 20x speed-up (a line each 1.3 ms).
+  // 37.5 lines/s at 45 deg/s is 300 lines a turn, whatever the speed-up.
   EXPECT_GT(scan.lines.size(), 285u);
   EXPECT_LT(scan.lines.size(), 315u);
   EXPECT_NEAR(scan.lines.back().beta, 2 * M_PI, 0.2);
