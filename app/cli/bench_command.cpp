@@ -131,7 +131,7 @@ BenchFigures benchScan(const std::filesystem::path& file, const Arguments& argum
   figures.points = scan.size();
   const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
   figures.trusted = warm_up.trusted();
-  figures.planes = warm_up.analysis.planes.planes.size();
+  figures.planes = warm_up.analysis->planes.planes.size();
   const std::optional<sim::GroundTruth> truth = truthFor(file, scan);
   if (truth) figures.accuracy = scoreOwnResult(*truth, warm_up);
   const bool peak_reset = resetPeakMemory();

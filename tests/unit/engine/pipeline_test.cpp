@@ -72,6 +72,10 @@ TEST(Pipeline, ANewRobotReusesTheAnalysisAndGivesTheSameMapAsAFullRun) {
   EXPECT_NE(rerun.map.labels, first.map.labels);
   EXPECT_LT(rerun.map.counts[std::size_t(CellLabel::kTraversable)],
             first.map.counts[std::size_t(CellLabel::kTraversable)]);
+  // The re-run shares the first run's analysis: the same object, not a copy.
+  EXPECT_EQ(rerun.analysis.get(), first.analysis.get());
+  EXPECT_GE(first.analysis.use_count(), 2);
+  EXPECT_THROW(rerunForRobot(simulated.scan, nullptr, params), std::invalid_argument);
 }
 
 TEST(Pipeline, ProgressRisesAndCancelStopsTheWork) {
@@ -93,7 +97,7 @@ TEST(Pipeline, ScansTooSparseOrEmptyAreNotTrusted) {
   Scan empty;
   const PipelineResult nothing = runPipeline(empty, {});
   EXPECT_FALSE(nothing.trusted());
-  EXPECT_NE(nothing.analysis.reason.find("too sparse"), std::string::npos);
+  EXPECT_NE(nothing.reason.find("too sparse"), std::string::npos);
 
   Scan nan_scan = garage(20).scan;
   for (std::size_t i = 0; i < nan_scan.size(); ++i) {
