@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -12,6 +13,24 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
       .count();
 }
+
+// OpenCV's own thread count (its morphology in plane validation and in the traversability stage)
+// is process-wide and defaults to every core: for one run it is the caller's `threads`, and what
+// it was before afterwards. Set only when it differs: setting it restarts OpenCV's pool.
+class OpenCvThreads {
+ public:
+  explicit OpenCvThreads(int threads) : previous_(cv::getNumThreads()) {
+    if (std::max(threads, 1) != previous_) cv::setNumThreads(std::max(threads, 1));
+  }
+  ~OpenCvThreads() {
+    if (cv::getNumThreads() != previous_) cv::setNumThreads(previous_);
+  }
+  OpenCvThreads(const OpenCvThreads&) = delete;
+  OpenCvThreads& operator=(const OpenCvThreads&) = delete;
+
+ private:
+  int previous_;
+};
 
 void checkParams(const SegmentationParams& params) {
   if (const auto reasons = params.validate(); !reasons.empty())
@@ -72,6 +91,7 @@ PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysi
                              const ProgressCallback& progress) {
   if (!analysis) throw std::invalid_argument("rerunForRobot: no scan analysis to re-run on");
   checkParams(params);
+  const OpenCvThreads opencv_threads(threads);
   PipelineResult result;
   result.robot = params.robot;
   result.timings = analysis->timings;
@@ -92,6 +112,7 @@ PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysi
 PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params, int threads,
                            const ProgressCallback& progress) {
   checkParams(params);
+  const OpenCvThreads opencv_threads(threads);
   auto analysisProgress = [&](double f) { return !progress || progress(0.8 * f); };
   auto analysis =
       std::make_shared<const ScanAnalysis>(analyseScan(scan, params, threads, analysisProgress));

@@ -18,6 +18,10 @@
 
 namespace clearway {
 
+// Threads the engine uses unless told otherwise (clearway-cli --threads, clearway --threads): the
+// operator console's computer has two cores, and so has the CI machine.
+inline constexpr int kDefaultThreads = 2;
+
 struct PipelineResult {
   // Stages 1-4, read-only and shared by every result of the same scan: a re-run for another robot
   // hands the same analysis on instead of copying it (tens of MB at 1M points). Never null.
@@ -37,12 +41,12 @@ struct PipelineResult {
 };
 
 // Throws std::invalid_argument for invalid parameters, OperationCancelled on cancel.
-PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params, int threads = 2,
-                           const ProgressCallback& progress = {});
+PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params,
+                           int threads = kDefaultThreads, const ProgressCallback& progress = {});
 
 // Stages 5-6 only, for a new robot, on an existing analysis of the same scan.
 PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysis> analysis,
-                             const SegmentationParams& params, int threads = 2,
+                             const SegmentationParams& params, int threads = kDefaultThreads,
                              const ProgressCallback& progress = {});
 
 // Per-point classes from the planes and the map.

@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
 
 #include "clearway/segmentation/line_segments.h"
 #include "engine_fixtures.h"
@@ -76,6 +77,22 @@ TEST(Pipeline, ANewRobotReusesTheAnalysisAndGivesTheSameMapAsAFullRun) {
   EXPECT_EQ(rerun.analysis.get(), first.analysis.get());
   EXPECT_GE(first.analysis.use_count(), 2);
   EXPECT_THROW(rerunForRobot(simulated.scan, nullptr, params), std::invalid_argument);
+}
+
+TEST(Pipeline, TheThreadsSettingReachesOpenCvForTheRunOnly) {
+  // OpenCV's thread count is process-wide: a run uses the caller's, and leaves it as it was.
+  const auto simulated = garage();
+  const int before = cv::getNumThreads();
+  const int wanted = before == 1 ? 2 : 1;
+  std::vector<int> during;
+  runPipeline(simulated.scan, {}, wanted, [&](double) {
+    during.push_back(cv::getNumThreads());
+    return true;
+  });
+  ASSERT_FALSE(during.empty());
+  for (int threads : during)
+    EXPECT_EQ(threads, wanted);
+  EXPECT_EQ(cv::getNumThreads(), before);
 }
 
 TEST(Pipeline, ProgressRisesAndCancelStopsTheWork) {
