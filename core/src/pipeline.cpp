@@ -32,6 +32,9 @@ class OpenCvThreads {
   int previous_;
 };
 
+// Stages 1-4 take most of a run's time: their share of the progress bar.
+constexpr double kAnalysisProgressShare = 0.8;
+
 void checkParams(const SegmentationParams& params) {
   if (const auto reasons = params.validate(); !reasons.empty())
     throw std::invalid_argument("invalid parameters: " + reasons.front());
@@ -113,10 +116,14 @@ PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params, i
                            const ProgressCallback& progress) {
   checkParams(params);
   const OpenCvThreads opencv_threads(threads);
-  auto analysisProgress = [&](double f) { return !progress || progress(0.8 * f); };
+  auto analysisProgress = [&](double f) {
+    return !progress || progress(kAnalysisProgressShare * f);
+  };
   auto analysis =
       std::make_shared<const ScanAnalysis>(analyseScan(scan, params, threads, analysisProgress));
-  auto mapProgress = [&](double f) { return !progress || progress(0.8 + 0.2 * f); };
+  auto mapProgress = [&](double f) {
+    return !progress || progress(kAnalysisProgressShare + (1.0 - kAnalysisProgressShare) * f);
+  };
   return rerunForRobot(scan, std::move(analysis), params, threads, mapProgress);
 }
 
