@@ -80,6 +80,18 @@ class HandBuiltMap {
     return *this;
   }
 
+  // A standing wall plane whose face runs along map direction `yaw`: the stage tries the box along
+  // and square to every wall (a narrow door is passable only square to its wall).
+  HandBuiltMap& wallPlane(double yaw) {
+    Plane plane;
+    plane.kind = PlaneKind::kWall;
+    plane.validated = true;
+    plane.normal = Eigen::Vector3d(-std::sin(yaw), std::cos(yaw), 0.0);
+    analysis_.planes.planes.push_back(plane);
+    analysis_.height_coefficients.push_back(Eigen::Vector3d::Zero());
+    return *this;
+  }
+
   // Ground levels a and b meet with a step this high (MapInputs::contacts).
   HandBuiltMap& contact(int a, int b, double step) {
     analysis_.inputs.contacts.push_back({a, b, float(step)});

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -98,6 +100,52 @@ TEST(TraversabilityStage, AWideCorridorIsGreen) {
   const TraversabilityMap map = mapOf(corridor(testRobot().width + 0.3));
   for (double x = kInsideFrom; x <= kInsideTo; x += 0.1)
     EXPECT_EQ(cellAt(map, x, 0.025).label, CellLabel::kTraversable) << "at x = " << x;
+}
+
+// A corridor 2 cm wider than the robot running at 37 deg, between none of the uniform orientations
+// (every 15 deg): the robot fits only along it, which the stage tries when a wall says so.
+constexpr double kSlantDeg = 37.0;
+HandBuiltMap slantedCorridor(bool with_wall_plane) {
+  const double yaw = kSlantDeg * std::numbers::pi / 180.0;
+  const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw)), across(-along.y(), along.x());
+  const double half_width = (testRobot().width + kTwoCentimetres) / 2;
+  HandBuiltMap built(-3.0, -3.0, 6.0, 6.0);
+  // The robot faces +x: its own heading, always tried, is not the corridor's.
+  built.floor(-2.75, -2.75, 5.75, 5.75).robotAt(-1.5, -1.5, 0.0);
+  for (double side : {-1.0, 1.0})
+    built.face(1.0 * along + side * half_width * across, 5.0 * along + side * half_width * across,
+               kWallLow, kWallHigh);
+  if (with_wall_plane) built.wallPlane(yaw);
+  return built;
+}
+
+// Labels of the cells whose centres lie within 2 cm of the slanted corridor's centre line, where
+// the robot's whole box is inside it.
+std::vector<CellLabel> slantedCentreLine(const TraversabilityMap& map) {
+  const double yaw = kSlantDeg * std::numbers::pi / 180.0;
+  const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw)), across(-along.y(), along.x());
+  std::vector<CellLabel> labels;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const Eigen::Vector2d centre = map.grid.centre(column, row);
+      const double u = centre.dot(along), v = centre.dot(across);
+      if (u >= kInsideFrom && u <= kInsideTo && std::abs(v) <= 0.02)
+        labels.push_back(map.label(column, row));
+    }
+  return labels;
+}
+
+TEST(TraversabilityStage, ASlantedCorridorFitsOnlyAlongItsWall) {
+  const auto along_wall = slantedCentreLine(mapOf(slantedCorridor(true)));
+  const auto uniform_only = slantedCentreLine(mapOf(slantedCorridor(false)));
+  ASSERT_FALSE(along_wall.empty());
+  ASSERT_EQ(along_wall.size(), uniform_only.size());
+  // With the wall's direction tried, the centre line is careful (1 cm of play on each side) ...
+  EXPECT_EQ(std::count(along_wall.begin(), along_wall.end(), CellLabel::kCareful),
+            std::ptrdiff_t(along_wall.size()));
+  // ... with only the uniform orientations, 7 deg off at best, the box fits nowhere along it.
+  EXPECT_EQ(std::count(uniform_only.begin(), uniform_only.end(), CellLabel::kImpassable),
+            std::ptrdiff_t(uniform_only.size()));
 }
 
 // A closed corridor 1.1 m wide along x from -2 to 4.5 (the only floor on the map), the robot in
