@@ -131,7 +131,7 @@ BenchFigures benchScan(const std::filesystem::path& file, const Arguments& argum
   figures.points = scan.size();
   const PipelineResult warm_up = runPipeline(scan, params, threads);  // caches, pool
   figures.trusted = warm_up.trusted();
-  figures.planes = warm_up.analysis.planes.planes.size();
+  figures.planes = warm_up.analysis->planes.planes.size();
   const std::optional<sim::GroundTruth> truth = truthFor(file, scan);
   if (truth) figures.accuracy = scoreOwnResult(*truth, warm_up);
   const bool peak_reset = resetPeakMemory();
@@ -250,7 +250,7 @@ int runBench(const std::vector<std::string>& words) {
         "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers] "
         "[--rings N]");
   const int repeat = int(arguments.integer("repeat", 20, 1, 100000));
-  const int threads = int(arguments.integer("threads", 2, 1, 64));
+  const int threads = int(arguments.integer("threads", kDefaultThreads, 1, 64));
   const SegmentationParams params = paramsFromArguments(arguments);
 
   nlohmann::json all = nlohmann::json::array();

@@ -51,19 +51,19 @@ PeerFigures benchDilatePeer(const PipelineResult& ours, const SegmentationParams
   PeerFigures figures;
   figures.name = "opencv_dilate_footprints";
   figures.replaces = kTraversability;
-  if (!ours.analysis.ground_found) {
+  if (!ours.analysis->ground_found) {
     figures.skipped = "no ground found: there is no map to compute";
     return figures;
   }
   std::vector<std::uint8_t> labels;
   figures.milliseconds = timeRuns(runs, [&] {
     labels =
-        peers::dilateTraversability(ours.analysis, ours.robot, params.map, ours.map.yaws, threads);
+        peers::dilateTraversability(*ours.analysis, ours.robot, params.map, ours.map.yaws, threads);
   });
   figures.traversable_cells = traversableCells(labels);
   if (truth)
     figures.map_score = eval::scoreMap(
-        *truth, mapResult(ours.analysis.inputs.grid, labels, ours.analysis, ours.robot));
+        *truth, mapResult(ours.analysis->inputs.grid, labels, *ours.analysis, ours.robot));
   return figures;
 }
 
@@ -74,9 +74,9 @@ double ratio(double peer_ms, double own_ms) {
 }  // namespace
 
 OwnAccuracy scoreOwnResult(const sim::GroundTruth& truth, const PipelineResult& result) {
-  return {eval::scoreSegmentation(truth, eval::pointPlanesOf(result.analysis)),
-          eval::scoreMap(
-              truth, mapResult(result.map.grid, result.map.labels, result.analysis, result.robot))};
+  return {eval::scoreSegmentation(truth, eval::pointPlanesOf(*result.analysis)),
+          eval::scoreMap(truth, mapResult(result.map.grid, result.map.labels, *result.analysis,
+                                          result.robot))};
 }
 
 std::vector<PeerFigures> benchPeers(const Scan& scan, const PipelineResult& ours,

@@ -23,7 +23,7 @@ int runSegment(const std::vector<std::string>& words) {
   const auto output = arguments.option("o") ? arguments.option("o") : arguments.option("output");
   if (!output) throw UsageError("-o DIR is required");
   SegmentationParams params = paramsFromArguments(arguments);
-  const int threads = int(arguments.integer("threads", 2, 1, 64));
+  const int threads = int(arguments.integer("threads", kDefaultThreads, 1, 64));
 
   std::optional<Eigen::Vector2d> goal;
   if (const auto text = arguments.option("goal")) {
@@ -44,13 +44,13 @@ int runSegment(const std::vector<std::string>& words) {
   if (!arguments.flag("quiet")) {
     std::cout << describePose(loaded.pose) << "\n";
     std::cout << "ground found: " << (result.trusted() ? "yes" : "NO") << "\n";
-    if (result.analysis.pose_source == PoseSource::kEstimated && result.trusted())
+    if (result.analysis->pose_source == PoseSource::kEstimated && result.trusted())
       std::cout << "up direction: estimated from the scan (confidence "
-                << result.analysis.up_confidence << ")\n";
-    if (!result.trusted()) std::cout << "reason: " << result.analysis.reason << "\n";
-    std::cout << "planes: " << result.analysis.planes.planes.size() << " ("
-              << result.analysis.candidate_planes
-              << " candidates), segments: " << result.analysis.segments.size() << "\n";
+                << result.analysis->up_confidence << ")\n";
+    if (!result.trusted()) std::cout << "reason: " << result.reason << "\n";
+    std::cout << "planes: " << result.analysis->planes.planes.size() << " ("
+              << result.analysis->candidate_planes
+              << " candidates), segments: " << result.analysis->segments.size() << "\n";
     std::cout << "cells: traversable " << result.map.counts[1] << ", careful "
               << result.map.counts[2] << ", obstacle " << result.map.counts[3] << ", impassable "
               << result.map.counts[4] << "\n";

@@ -1,12 +1,13 @@
 // clearway: the operator console.
 // clearway [SCAN] [--load SCAN] [--robot-width W] [--robot-length L] [--robot-height H]
 //          [--screenshot PNG [--size WxH] [--view operator|top|front|side]]
-//          [--measure X1,Y1,X2,Y2] [--goal X,Y] [--deuteranopia]
+//          [--measure X1,Y1,X2,Y2] [--goal X,Y] [--deuteranopia] [--threads N]
 // With --screenshot it loads and segments the scan, renders, saves a picture of the window and
 // exits: 0 when all went well, 1 with a message otherwise. --size sets the window's size, --view
 // the 3D camera, --measure draws a measured distance on the map, --goal asks "Can it get there?"
 // for a map position (the path or the reason is shown), --deuteranopia saves the picture
 // as a person with deuteranopia would see it (Machado 2009), so screenshots are reproducible.
+// --threads sets the engine's threads (default 2, as clearway-cli's).
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -36,6 +37,18 @@ bool readLength(const QCommandLineParser& parser, const QString& name, double& v
     return false;
   }
   value = parsed;
+  return true;
+}
+
+bool readThreads(const QCommandLineParser& parser, int& threads) {
+  if (!parser.isSet("threads")) return true;
+  bool ok = false;
+  threads = parser.value("threads").toInt(&ok);
+  if (!ok || threads < 1 || threads > clearway::ui::SegmentationSession::kMaxThreads) {
+    std::fprintf(stderr, "clearway: --threads needs a whole number from 1 to %d\n",
+                 clearway::ui::SegmentationSession::kMaxThreads);
+    return false;
+  }
   return true;
 }
 
@@ -132,6 +145,7 @@ int main(int argc, char** argv) {
   parser.addOption({"view", "3D camera: operator (default), top, front or side.", "view"});
   parser.addOption({"measure", "Measure on the map between two points [m].", "x1,y1,x2,y2"});
   parser.addOption({"deuteranopia", "Save the screenshot as seen with deuteranopia."});
+  parser.addOption({"threads", "Threads the engine uses (default 2).", "n"});
   parser.addOption(
       {"goal", "With --screenshot: ask \"Can it get there?\" for a map position [m].", "x,y"});
   parser.process(application);
@@ -153,9 +167,11 @@ int main(int argc, char** argv) {
   clearway::ui::SceneView::CameraView view = clearway::ui::SceneView::CameraView::kBehind;
   std::vector<double> measure;
   std::optional<QPointF> goal;
+  int threads = clearway::kDefaultThreads;
   if (!readSize(parser, size) || !readView(parser, view) || !readMeasure(parser, measure) ||
-      !readGoal(parser, goal))
+      !readGoal(parser, goal) || !readThreads(parser, threads))
     return 2;
+  window.session()->setThreads(threads);
   window.setRobot(robot);
   if (size.isValid()) window.resize(size);
   window.show();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <opencv2/core/utility.hpp>
 #include <sstream>
 #include <stdexcept>
 
@@ -13,23 +14,47 @@ double millisecondsSince(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
+// OpenCV's own thread count (its morphology in plane validation and in the traversability stage)
+// is process-wide and defaults to every core: for one run it is the caller's `threads`, and what
+// it was before afterwards. Set only when it differs: setting it restarts OpenCV's pool.
+class OpenCvThreads {
+ public:
+  explicit OpenCvThreads(int threads) : previous_(cv::getNumThreads()) {
+    if (std::max(threads, 1) != previous_) cv::setNumThreads(std::max(threads, 1));
+  }
+  ~OpenCvThreads() {
+    if (cv::getNumThreads() != previous_) cv::setNumThreads(previous_);
+  }
+  OpenCvThreads(const OpenCvThreads&) = delete;
+  OpenCvThreads& operator=(const OpenCvThreads&) = delete;
+
+ private:
+  int previous_;
+};
+
+// Stages 1-4 take most of a run's time: their share of the progress bar.
+constexpr double kAnalysisProgressShare = 0.8;
+
 void checkParams(const SegmentationParams& params) {
   if (const auto reasons = params.validate(); !reasons.empty())
     throw std::invalid_argument("invalid parameters: " + reasons.front());
 }
 
-// A scan whose ground is everywhere too sparse to show anything green says so: nothing is wrong
-// with the ground found, but no cell can be vouched for.
-void noteTooSparse(const TraversabilityMap& map, const RobotParams& robot, ScanAnalysis& analysis) {
-  if (!analysis.ground_found || map.counts[std::size_t(CellLabel::kTraversable)] > 0) return;
+// Why the result shows nothing traversable: the analysis' reason, or, for a scan whose ground is
+// everywhere too sparse for this robot to show anything green, that (nothing is wrong with the
+// ground found, but no cell can be vouched for).
+std::string resultReason(const TraversabilityMap& map, const RobotParams& robot,
+                         const ScanAnalysis& analysis) {
+  if (!analysis.ground_found || map.counts[std::size_t(CellLabel::kTraversable)] > 0)
+    return analysis.reason;
   const auto sparse =
       std::count(map.reasons.begin(), map.reasons.end(), std::uint8_t(CellReason::kSparse));
-  if (sparse == 0) return;
+  if (sparse == 0) return analysis.reason;
   std::ostringstream reason;
   reason << "scan too sparse to show anything traversable: on " << sparse
          << " cells the ground samples are so far apart that an obstacle taller than the step ("
          << robot.max_step << " m) could hide between them (scan with more lines)";
-  analysis.reason = reason.str();
+  return reason.str();
 }
 
 }  // namespace
@@ -64,20 +89,22 @@ std::vector<PointClass> classifyPoints(const Scan& scan, const ScanAnalysis& ana
   return classes;
 }
 
-PipelineResult rerunForRobot(const Scan& scan, ScanAnalysis analysis,
+PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysis> analysis,
                              const SegmentationParams& params, int threads,
                              const ProgressCallback& progress) {
+  if (!analysis) throw std::invalid_argument("rerunForRobot: no scan analysis to re-run on");
   checkParams(params);
+  const OpenCvThreads opencv_threads(threads);
   PipelineResult result;
   result.robot = params.robot;
-  result.timings = analysis.timings;
+  result.timings = analysis->timings;
   auto start = std::chrono::steady_clock::now();
-  result.map = computeTraversability(analysis, params.robot, params.map, threads, progress);
+  result.map = computeTraversability(*analysis, params.robot, params.map, threads, progress);
   result.timings.push_back({"traversability", millisecondsSince(start)});
-  noteTooSparse(result.map, params.robot, analysis);
+  result.reason = resultReason(result.map, params.robot, *analysis);
   start = std::chrono::steady_clock::now();
-  result.scene = buildSceneGeometry(scan, analysis, result.map, params.robot);
-  result.point_classes = classifyPoints(scan, analysis, params.robot);
+  result.scene = buildSceneGeometry(scan, *analysis, result.map, params.robot);
+  result.point_classes = classifyPoints(scan, *analysis, params.robot);
   result.timings.push_back({"scene", millisecondsSince(start)});
   for (const StageTiming& timing : result.timings)
     result.total_ms += timing.milliseconds;
@@ -88,9 +115,15 @@ PipelineResult rerunForRobot(const Scan& scan, ScanAnalysis analysis,
 PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params, int threads,
                            const ProgressCallback& progress) {
   checkParams(params);
-  auto analysisProgress = [&](double f) { return !progress || progress(0.8 * f); };
-  ScanAnalysis analysis = analyseScan(scan, params, threads, analysisProgress);
-  auto mapProgress = [&](double f) { return !progress || progress(0.8 + 0.2 * f); };
+  const OpenCvThreads opencv_threads(threads);
+  auto analysisProgress = [&](double f) {
+    return !progress || progress(kAnalysisProgressShare * f);
+  };
+  auto analysis =
+      std::make_shared<const ScanAnalysis>(analyseScan(scan, params, threads, analysisProgress));
+  auto mapProgress = [&](double f) {
+    return !progress || progress(kAnalysisProgressShare + (1.0 - kAnalysisProgressShare) * f);
+  };
   return rerunForRobot(scan, std::move(analysis), params, threads, mapProgress);
 }
 

@@ -244,7 +244,7 @@ class ConsoleTruthTest : public QObject {
     QVERIFY(ready.wait(kTimeoutMs));
     const auto second = ready.takeLast().at(0).value<SessionResult>();
     QCOMPARE(second.scan, first.scan);  // the same scan in memory, not a new load
-    QCOMPARE(second.result->analysis.ground_found, true);
+    QCOMPARE(second.result->analysis->ground_found, true);
   }
 
   void exportsGetTheirExtensionAndSaySo() {

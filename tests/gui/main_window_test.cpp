@@ -143,6 +143,30 @@ class MainWindowTest : public QObject {
     dialog->close();
   }
 
+  void aRobotChangeSharesTheAnalysisAndUsesTheSessionsThreads() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    QTRY_VERIFY_WITH_TIMEOUT(!window.session()->busy(), kTimeoutMs);
+    const auto first = window.shownResult().result;
+    QVERIFY(first && first->analysis);
+    clearway::ui::SegmentationSession& session = *window.session();
+    QCOMPARE(session.threads(), clearway::kDefaultThreads);
+    session.setThreads(0);
+    QCOMPARE(session.threads(), 1);  // at least one
+    session.setThreads(1000);
+    QCOMPARE(session.threads(), clearway::ui::SegmentationSession::kMaxThreads);
+    session.setThreads(1);
+    clearway::RobotParams robot = session.params().robot;
+    robot.width += 0.1;
+    session.setRobot(robot);
+    QTRY_VERIFY_WITH_TIMEOUT(window.shownResult().result->robot.width == robot.width, kTimeoutMs);
+    // The re-run for the new robot holds the very analysis of the first run, not a copy.
+    QCOMPARE(window.shownResult().result->analysis.get(), first->analysis.get());
+  }
+
   void cancelStopsALongJob() {
     MainWindow window;
     window.show();

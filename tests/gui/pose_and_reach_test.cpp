@@ -114,7 +114,7 @@ Eigen::Vector2d yardCell(const MainWindow& window, const Simulated& garage, bool
   const PipelineResult& result = shown(window);
   const TraversabilityMap& map = result.map;
   const Eigen::Isometry3d world_from_map =
-      garage.placement.worldFromScanner() * result.analysis.map_from_scanner.inverse();
+      garage.placement.worldFromScanner() * result.analysis->map_from_scanner.inverse();
   for (int row = 0; row < map.grid.height; ++row)
     for (int column = 0; column < map.grid.width; ++column) {
       const Eigen::Vector2d centre = map.grid.centre(column, row);
@@ -290,7 +290,7 @@ class PoseAndReachTest : public QObject {
     writePoseSidecar(truth, "test", directory_.filePath("garage_sidecar.pose.json").toStdString());
     window.openScan(sidecar_scan);
     QVERIFY(shown_spy.wait(kTimeoutMs));
-    QCOMPARE(shown(window).analysis.pose_source, PoseSource::kSidecar);
+    QCOMPARE(shown(window).analysis->pose_source, PoseSource::kSidecar);
     QVERIFY2(scanInfo(window).contains(
                  "Pose: from the acquisition's pose file (sidecar) (garage_sidecar.pose.json)"),
              qPrintable(scanInfo(window)));
@@ -320,7 +320,7 @@ class PoseAndReachTest : public QObject {
     QVERIFY(ok->isEnabled());
     ok->click();
     QVERIFY(shown_spy.wait(kTimeoutMs));
-    const ScanAnalysis& analysis = shown(window).analysis;
+    const ScanAnalysis& analysis = *shown(window).analysis;
     QCOMPARE(analysis.pose_source, PoseSource::kCommandLine);
     QVERIFY(shown(window).trusted());
     QVERIFY(angleDeg(analysis.up, up) < 1e-3);
@@ -337,8 +337,8 @@ class PoseAndReachTest : public QObject {
     QSignalSpy shown_spy(&window, &MainWindow::resultShown);
     window.openScan(without_pose_.path);
     QVERIFY(shown_spy.wait(kTimeoutMs));
-    QCOMPARE(shown(window).analysis.pose_source, PoseSource::kEstimated);
-    QVERIFY2(shown(window).trusted(), shown(window).analysis.reason.c_str());
+    QCOMPARE(shown(window).analysis->pose_source, PoseSource::kEstimated);
+    QVERIFY2(shown(window).trusted(), shown(window).reason.c_str());
     QVERIFY(window.withholdsTraversable());
     QCOMPARE(greenPixels(window.mapView()->image()), 0);
     QCOMPARE(shown(window).map.counts[std::size_t(CellLabel::kTraversable)], std::size_t(0));
@@ -355,7 +355,7 @@ class PoseAndReachTest : public QObject {
 
     confirm->click();
     QVERIFY(shown_spy.wait(kTimeoutMs));
-    QCOMPARE(shown(window).analysis.pose_source, PoseSource::kOperator);
+    QCOMPARE(shown(window).analysis->pose_source, PoseSource::kOperator);
     QVERIFY(shown(window).trusted());
     QVERIFY(!window.withholdsTraversable());
     QVERIFY(!banner->isVisible());
@@ -414,10 +414,10 @@ class PoseAndReachTest : public QObject {
     QVERIFY(floor);
     const PipelineResult& before = shown(window);
     const Eigen::Vector3d in_view =
-        before.trusted() ? Eigen::Vector3d(before.analysis.map_from_scanner * *floor) : *floor;
+        before.trusted() ? Eigen::Vector3d(before.analysis->map_from_scanner * *floor) : *floor;
     QVERIFY(window.pickFloorAt(in_view.x(), in_view.y(), in_view.z()).isEmpty());
     QVERIFY(shown_spy.wait(kTimeoutMs));
-    const ScanAnalysis& analysis = shown(window).analysis;
+    const ScanAnalysis& analysis = *shown(window).analysis;
     QCOMPARE(analysis.pose_source, PoseSource::kOperator);
     QVERIFY(shown(window).trusted());
     const double error = angleDeg(analysis.up, trueUp(without_pose_));

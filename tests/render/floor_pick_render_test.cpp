@@ -71,7 +71,7 @@ class FloorPickRenderTest : public QObject {
     QVERIFY(view->pickAt(QPoint(view->width() / 5, view->height() / 2)));
     QVERIFY(!floor->isChecked());  // one click
     QVERIFY(shown.wait(kTimeoutMs));
-    const ScanAnalysis& analysis = window.shownResult().result->analysis;
+    const ScanAnalysis& analysis = *window.shownResult().result->analysis;
     QCOMPARE(analysis.pose_source, PoseSource::kOperator);
     QVERIFY(window.shownResult().result->trusted());
     QVERIFY(!window.withholdsTraversable());

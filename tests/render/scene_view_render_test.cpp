@@ -201,7 +201,7 @@ class SceneViewRenderTest : public QObject {
       if (!room.scan->isValid(i)) continue;
       const auto& p = room.scan->points[i];
       const Eigen::Vector3d m =
-          room.result->analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+          room.result->analysis->map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
       x0 = std::min(x0, m.x());
       x1 = std::max(x1, m.x());
       y0 = std::min(y0, m.y());

@@ -9,7 +9,7 @@ namespace {
 
 Eigen::Vector2i cellOfWorld(const SimulatedRun& run, const Eigen::Vector3d& world) {
   const Eigen::Isometry3d map_from_world =
-      run.result.analysis.map_from_scanner *
+      run.result.analysis->map_from_scanner *
       run.simulated.truth.placement.worldFromScanner().inverse();
   const Eigen::Vector3d m = map_from_world * world;
   return run.result.map.grid.cellOf(m.x(), m.y());

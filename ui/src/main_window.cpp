@@ -74,7 +74,7 @@ QString humanSummary(const SessionResult& result) {
                 .arg(QLocale().toString(result.scan_time, QLocale::ShortFormat))
                 .arg(ageInWords(result.scan_time));
   const PipelineResult& pipeline = *result.result;
-  const ScanAnalysis& analysis = pipeline.analysis;
+  const ScanAnalysis& analysis = *pipeline.analysis;
   text += QObject::tr("<br>Pose: %1")
               .arg(poseSourceInWords(analysis.pose_source, analysis.up_confidence).toHtmlEscaped());
   if (analysis.pose_source == PoseSource::kSidecar)
@@ -401,7 +401,7 @@ void MainWindow::showResult(const SessionResult& result) {
   if (result.scan != d_->shown.scan) d_->goal.reset();
   d_->shown = result;
   // An estimated up direction may be wrong: nothing is drawn traversable until it is confirmed.
-  d_->withheld = pipeline.trusted() && pipeline.analysis.pose_source == PoseSource::kEstimated;
+  d_->withheld = pipeline.trusted() && pipeline.analysis->pose_source == PoseSource::kEstimated;
   if (d_->withheld) d_->shown.result = withholdTraversable(pipeline);
   d_->shown_is_previous = false;
   d_->map->setStale({});

@@ -64,7 +64,7 @@ void MainWindow::showPoseAndReach() {
 
 void MainWindow::updateTrustBanner() {
   const PipelineResult& result = *d_->shown.result;
-  const ScanAnalysis& analysis = result.analysis;
+  const ScanAnalysis& analysis = *result.analysis;
   // The operator's ways out when the scan's own pose is missing: confirm, pick, type.
   const bool no_pose =
       analysis.pose_source == PoseSource::kEstimated || analysis.pose_source == PoseSource::kNone;
@@ -75,7 +75,7 @@ void MainWindow::updateTrustBanner() {
     d_->trust_bar->setStyleSheet(kEstimatedStyle);
   } else {
     d_->banner->setText(
-        tr("Nothing is shown as traversable: %1").arg(QString::fromStdString(analysis.reason)));
+        tr("Nothing is shown as traversable: %1").arg(QString::fromStdString(result.reason)));
     d_->trust_bar->setStyleSheet(kUntrustedStyle);
   }
   d_->confirm_up->setVisible(d_->withheld);
@@ -116,7 +116,7 @@ void MainWindow::setScanPose(const PoseRequest& request, PoseSource source) {
 void MainWindow::confirmEstimatedUp() {
   if (!d_->withheld) return;
   PoseRequest request;
-  request.up = d_->shown.result->analysis.up;
+  request.up = d_->shown.result->analysis->up;
   setScanPose(request, PoseSource::kOperator);
 }
 
@@ -125,9 +125,9 @@ QString MainWindow::pickFloorAt(double x, double y, double z) {
   const PipelineResult& result = *d_->shown.result;
   // The 3D view draws in the map frame when there is ground, in the scanner frame otherwise.
   const Eigen::Isometry3d view_from_scanner =
-      result.trusted() ? result.analysis.map_from_scanner : Eigen::Isometry3d::Identity();
+      result.trusted() ? result.analysis->map_from_scanner : Eigen::Isometry3d::Identity();
   const Eigen::Vector3d scanner_point = view_from_scanner.inverse() * Eigen::Vector3d(x, y, z);
-  const FloorPick pick = floorUpAt(*d_->shown.scan, result.analysis, scanner_point);
+  const FloorPick pick = floorUpAt(*d_->shown.scan, *result.analysis, scanner_point);
   if (!pick.up) {
     const QString why = tr("Not the floor: %1").arg(QString::fromStdString(pick.reason));
     statusBar()->showMessage(why);

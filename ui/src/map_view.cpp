@@ -136,7 +136,7 @@ QString MapView::describe(double map_x, double map_y) const {
     text += reachable_[map.grid.index(cell.x(), cell.y())] ? tr(", reachable")
                                                            : tr(", fits, but cannot get there");
   // On a staircase: its steps, rise, tread and direction, and whether this robot climbs it.
-  const auto& stairs = result_->analysis.stairs;
+  const auto& stairs = result_->analysis->stairs;
   if (const int flight = stairs.staircaseAt(map.grid.index(cell.x(), cell.y())); flight >= 0)
     text += " (" +
             QString::fromStdString(

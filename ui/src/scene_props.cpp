@@ -180,7 +180,7 @@ vtkSmartPointer<vtkActor> groundActor(const PipelineResult& result, PaletteKind 
                                       const std::vector<std::uint8_t>& reachable) {
   MeshBuilder mesh;
   const SceneGeometry& ground = result.scene;
-  const Eigen::Isometry3d& to_map = result.analysis.map_from_scanner;
+  const Eigen::Isometry3d& to_map = result.analysis->map_from_scanner;
   const MapGrid& grid = result.map.grid;
   const bool has_reach = reachable.size() == result.map.labels.size();
   for (std::size_t i = 0; i < ground.vertices.size(); ++i) {

@@ -77,7 +77,7 @@ struct SceneView::Private {
   bool selected_fits = true;
 
   Eigen::Isometry3d mapFromScanner() const {
-    return has_frame ? result->analysis.map_from_scanner : Eigen::Isometry3d::Identity();
+    return has_frame ? result->analysis->map_from_scanner : Eigen::Isometry3d::Identity();
   }
   RobotParams robot() const { return result ? result->robot : RobotParams{}; }
 };

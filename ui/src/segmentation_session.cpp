@@ -5,6 +5,7 @@
 #include <QPointer>
 #include <QTimer>
 #include <QtConcurrent/QtConcurrentRun>
+#include <algorithm>
 #include <atomic>
 
 #include "clearway/io/scan_io.h"
@@ -24,7 +25,7 @@ struct JobControl {
   std::atomic<int> percent{0};
 };
 
-JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
+JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params, int threads,
                           std::shared_ptr<JobControl> control) {
   JobOutcome outcome;
   outcome.result.scan_path = path;
@@ -39,8 +40,8 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
     // The same precedence as the command line: a sidecar beside the scan, then the file's own.
     outcome.result.pose = resolveScanPose(loaded, {});
     auto scan = std::make_shared<const Scan>(std::move(loaded));
-    auto result =
-        std::make_shared<const PipelineResult>(runPipeline(*scan, params, 2, [control](double f) {
+    auto result = std::make_shared<const PipelineResult>(
+        runPipeline(*scan, params, threads, [control](double f) {
           control->percent = 30 + int(70 * f);
           return !control->cancel;
         }));
@@ -55,13 +56,13 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
   return outcome;
 }
 
-JobOutcome resegmentScan(SessionResult previous, const SegmentationParams& params,
+JobOutcome resegmentScan(SessionResult previous, const SegmentationParams& params, int threads,
                          std::shared_ptr<JobControl> control) {
   JobOutcome outcome;
   outcome.result = previous;
   try {
     outcome.result.result = std::make_shared<const PipelineResult>(
-        runPipeline(*previous.scan, params, 2, [control](double f) {
+        runPipeline(*previous.scan, params, threads, [control](double f) {
           control->percent = int(100 * f);
           return !control->cancel;
         }));
@@ -73,12 +74,12 @@ JobOutcome resegmentScan(SessionResult previous, const SegmentationParams& param
   return outcome;
 }
 
-JobOutcome rerun(SessionResult previous, const SegmentationParams& params) {
+JobOutcome rerun(SessionResult previous, const SegmentationParams& params, int threads) {
   JobOutcome outcome;
   outcome.result = previous;
   try {
     outcome.result.result = std::make_shared<const PipelineResult>(
-        rerunForRobot(*previous.scan, previous.result->analysis, params, 2));
+        rerunForRobot(*previous.scan, previous.result->analysis, params, threads));
   } catch (const std::exception& error) {
     outcome.error = QString::fromUtf8(error.what());
   }
@@ -130,7 +131,7 @@ SegmentationSession::SegmentationSession(QObject* parent)
     }
     d_->robot_pending = false;
     emit busyChanged(true);
-    d_->robot_watcher.setFuture(QtConcurrent::run(rerun, d_->current, params_));
+    d_->robot_watcher.setFuture(QtConcurrent::run(rerun, d_->current, params_, threads_));
   });
   connect(&d_->robot_watcher, &QFutureWatcher<JobOutcome>::finished, this, [this] {
     const JobOutcome outcome = d_->robot_watcher.result();
@@ -160,7 +161,8 @@ void SegmentationSession::openScan(const QString& path) {
   emit busyChanged(true);
   emit progress(0, tr("Loading"));
   d_->progress_timer.start();
-  d_->load_watcher.setFuture(QtConcurrent::run(loadAndSegment, path, params_, d_->control));
+  d_->load_watcher.setFuture(
+      QtConcurrent::run(loadAndSegment, path, params_, threads_, d_->control));
 }
 
 void SegmentationSession::resegment() {
@@ -172,7 +174,8 @@ void SegmentationSession::resegment() {
   emit busyChanged(true);
   emit progress(0, tr("Segmenting"));
   d_->progress_timer.start();
-  d_->load_watcher.setFuture(QtConcurrent::run(resegmentScan, previous, params_, d_->control));
+  d_->load_watcher.setFuture(
+      QtConcurrent::run(resegmentScan, previous, params_, threads_, d_->control));
 }
 
 void SegmentationSession::setScanPose(const PoseRequest& request, PoseSource source) {
@@ -199,6 +202,10 @@ void SegmentationSession::setParams(const SegmentationParams& params) {
   params_ = params;
   d_->robot_pending = true;
   d_->robot_timer.start();
+}
+
+void SegmentationSession::setThreads(int threads) {
+  threads_ = std::clamp(threads, 1, kMaxThreads);
 }
 
 void SegmentationSession::cancel() {

@@ -1,8 +1,9 @@
 #pragma once
 
 // The whole method, scan in, result out: stages 1-4 once per scan (ScanAnalysis), stages 5-6 per
-// robot size (reuseAnalysis keeps the former when only the robot changes).
+// robot size (rerunForRobot shares the former when only the robot changes).
 
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,8 +18,14 @@
 
 namespace clearway {
 
+// Threads the engine uses unless told otherwise (clearway-cli --threads, clearway --threads): the
+// operator console's computer has two cores, and so has the CI machine.
+inline constexpr int kDefaultThreads = 2;
+
 struct PipelineResult {
-  ScanAnalysis analysis;
+  // Stages 1-4, read-only and shared by every result of the same scan: a re-run for another robot
+  // hands the same analysis on instead of copying it (tens of MB at 1M points). Never null.
+  std::shared_ptr<const ScanAnalysis> analysis;
   TraversabilityMap map;
   SceneGeometry scene;
   RobotParams robot;
@@ -26,17 +33,20 @@ struct PipelineResult {
   std::optional<GoalResult> goal;         // "Can it get there?", when a goal was asked
   std::vector<StageTiming> timings;       // analysis stages, then traversability and scene
   double total_ms = 0.0;
+  // Why the result cannot be trusted or shows nothing traversable, empty when all is well: the
+  // analysis' own reason, or for this robot that the scan is too sparse to vouch for any cell.
+  std::string reason;
 
-  bool trusted() const { return analysis.ground_found; }
+  bool trusted() const { return analysis && analysis->ground_found; }
 };
 
 // Throws std::invalid_argument for invalid parameters, OperationCancelled on cancel.
-PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params, int threads = 2,
-                           const ProgressCallback& progress = {});
+PipelineResult runPipeline(const Scan& scan, const SegmentationParams& params,
+                           int threads = kDefaultThreads, const ProgressCallback& progress = {});
 
 // Stages 5-6 only, for a new robot, on an existing analysis of the same scan.
-PipelineResult rerunForRobot(const Scan& scan, ScanAnalysis analysis,
-                             const SegmentationParams& params, int threads = 2,
+PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysis> analysis,
+                             const SegmentationParams& params, int threads = kDefaultThreads,
                              const ProgressCallback& progress = {});
 
 // Per-point classes from the planes and the map.

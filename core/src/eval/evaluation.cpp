@@ -15,6 +15,13 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::size_t kListedFalseCells = 20;
+// The map lies on the reference ground plane, the true ground under a cell may be another level:
+// it is looked for downwards from this high above the map's plane, above any level a scene
+// holds that the robot could reach (a platform, a stair's landing) [m].
+constexpr double kLevelSearchHeight = 1.5;
+// A place (a room's middle, a yard) belongs to the traversable component found within this
+// distance of it: a place's own cell may be on a table's rim or a door jamb's shadow [m].
+constexpr double kPlaceSearchRadius = 0.3;
 
 std::array<ClassScore, kPointClassCount> scoreClasses(const sim::GroundTruth& truth,
                                                       const std::vector<PointClass>& predicted) {
@@ -115,7 +122,7 @@ MapScore scoreMap(const sim::GroundTruth& truth, const SegmentationResult& resul
                                  map.origin.y() + (row + 0.5) * map.resolution, 0.0);
       Eigen::Vector3d world = world_from_map * cell;
       // The map lies on the reference ground plane; the true ground may be another level.
-      world.z() += 1.5;
+      world.z() += kLevelSearchHeight;
       if (const auto ground = fit.groundHeight(world.x(), world.y(), world.z()))
         world.z() = *ground;
       if (!fit.fitsAnyOrientation(robot, world, options.orientations)) {
@@ -160,7 +167,7 @@ MapScore scoreMap(const sim::GroundTruth& truth, const SegmentationResult& resul
     const Eigen::Vector3d m = map_from_world * place.position;
     const int column = int(std::floor((m.x() - map.origin.x()) / map.resolution));
     const int row = int(std::floor((m.y() - map.origin.y()) / map.resolution));
-    const int search = int(std::ceil(0.3 / map.resolution));
+    const int search = int(std::ceil(kPlaceSearchRadius / map.resolution));
     for (int radius = 0; radius <= search; ++radius)
       for (int dr = -radius; dr <= radius; ++dr)
         for (int dc = -radius; dc <= radius; ++dc) {

@@ -14,15 +14,22 @@ namespace {
 
 using nlohmann::json;
 
+// Result files larger than these are refused, not read: a labels image of 1 GiB is a map of
+// 30 km x 30 km at 5 cm, a per-point class file of 4 GiB a scan of 4 billion points.
+constexpr std::uint64_t kMaxLabelsImageBytes = 1ULL << 30;
+constexpr std::uint64_t kMaxPointClassBytes = 1ULL << 32;
+// A PGM comment line is skipped up to this many characters.
+constexpr std::streamsize kMaxCommentLength = 1 << 20;
+
 std::vector<std::uint8_t> readPgm(const std::filesystem::path& file, int& width, int& height) {
-  const std::string bytes = readWholeFile(file, 1ULL << 30);
+  const std::string bytes = readWholeFile(file, kMaxLabelsImageBytes);
   std::istringstream stream(bytes);
   std::string magic;
   int max_value = 0;
   stream >> magic;
   auto next_number = [&](int& value) {
     while (stream >> std::ws && stream.peek() == '#')
-      stream.ignore(1 << 20, '\n');
+      stream.ignore(kMaxCommentLength, '\n');
     stream >> value;
   };
   next_number(width);
@@ -84,7 +91,7 @@ SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
     }
     if (report.contains("point_classes")) {
       const std::string bytes =
-          readWholeFile(folder / report["point_classes"].get<std::string>(), 1ULL << 32);
+          readWholeFile(folder / report["point_classes"].get<std::string>(), kMaxPointClassBytes);
       for (unsigned char c : bytes) {
         if (c >= kPointClassCount) throw std::runtime_error("point class out of range");
         result.point_classes.push_back(PointClass(c));

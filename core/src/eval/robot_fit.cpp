@@ -22,10 +22,14 @@ struct OrientedBox {
   Eigen::Vector3d half;
 };
 
+// Added to the absolute rotation terms of the separating-axis test: when two box axes are
+// parallel their cross product vanishes, and rounding must not make it separate the boxes.
+constexpr double kParallelAxisSlack = 1e-9;
+
 // Separating-axis test for two oriented boxes.
 bool intersects(const OrientedBox& a, const OrientedBox& b) {
   const Eigen::Matrix3d r = a.axes.transpose() * b.axes;
-  const Eigen::Matrix3d abs_r = r.cwiseAbs().array() + 1e-9;
+  const Eigen::Matrix3d abs_r = r.cwiseAbs().array() + kParallelAxisSlack;
   const Eigen::Vector3d t = a.axes.transpose() * (b.center - a.center);
   for (int i = 0; i < 3; ++i)
     if (std::abs(t[i]) > a.half[i] + abs_r.row(i).dot(b.half)) return false;
@@ -45,6 +49,14 @@ bool intersects(const OrientedBox& a, const OrientedBox& b) {
 
 // Spacing of the ground samples under the footprint [m].
 constexpr double kSampleSpacing = 0.15;
+// The ground under the robot is cast for downwards from this far above its centre, so a step up
+// under the footprint is found too [m] ...
+constexpr double kCastFromAbove = 1.0;
+// ... over at most this far (the truth scenes are far smaller) [m] ...
+constexpr double kLongestCast = 100.0;
+// ... and a surface is ground the robot stands on when its normal's up component is at least this
+// (at most 60 deg from vertical; steeper is a wall's side, not a floor).
+constexpr double kMinGroundNormalUp = 0.5;
 
 }  // namespace
 
@@ -52,15 +64,15 @@ RobotFit::RobotFit(const sim::Scene& scene)
     : scene_(scene), walkable_(walkableOnly(scene)), walkable_caster_(walkable_) {}
 
 std::optional<double> RobotFit::groundHeight(double x, double y, double from_z) const {
-  const auto hit = walkable_caster_.cast({x, y, from_z}, -Eigen::Vector3d::UnitZ(), 100.0);
-  if (!hit || hit->normal.z() < 0.5) return std::nullopt;
+  const auto hit = walkable_caster_.cast({x, y, from_z}, -Eigen::Vector3d::UnitZ(), kLongestCast);
+  if (!hit || hit->normal.z() < kMinGroundNormalUp) return std::nullopt;
   return from_z - hit->distance;
 }
 
 bool RobotFit::fits(const sim::RobotBox& robot, const Eigen::Vector3d& center, double yaw) const {
   const Eigen::Matrix3d turn = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   const Eigen::Vector3d along = turn.col(0), across = turn.col(1);
-  const double from_z = center.z() + 1.0;
+  const double from_z = center.z() + kCastFromAbove;
   const auto center_height = groundHeight(center.x(), center.y(), from_z);
   if (!center_height) return false;
 

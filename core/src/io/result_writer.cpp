@@ -52,11 +52,11 @@ std::uint8_t occupancy(std::uint8_t label) {
 
 std::string reportJson(const PipelineResult& result, const SegmentationParams& params,
                        const std::string& scan_name) {
-  const ScanAnalysis& analysis = result.analysis;
+  const ScanAnalysis& analysis = *result.analysis;
   nlohmann::ordered_json report;
   report["scan"] = utf8FileName(scan_name);  // JSON needs UTF-8; lossless for any bytes
   report["ground_found"] = analysis.ground_found;
-  if (!analysis.reason.empty()) report["reason"] = analysis.reason;
+  if (!result.reason.empty()) report["reason"] = result.reason;
   report["robot"] = {
       {"name", result.robot.name},         {"width", result.robot.width},
       {"length", result.robot.length},     {"height", result.robot.height},

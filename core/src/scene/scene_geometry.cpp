@@ -21,6 +21,16 @@ constexpr double kMinWallHeight = 0.25;
 constexpr double kCeilingClearance = 0.02;
 // A wall whose supported cells reach this close to the ground is drawn down to it [m].
 constexpr double kSnapToGround = 0.3;
+// A wall stands on the ground when its lowest cell above the foot band starts within this many
+// support cells of the band (one cell, plus half of one for the cell's own extent).
+constexpr double kStandingCells = 1.5;
+// A ground triangle is drawn when at least this many of its three corners lie on cells the robot
+// may use: a majority, so the drawn floor neither frays nor spills over red cells.
+constexpr int kMinDrawnCorners = 2;
+// Obstacle voxels are keyed by three signed 21-bit cell indices in one 64-bit word: +-2^20 cubes
+// of kCubeSize (+-100 km) per axis, far beyond any map.
+constexpr int kVoxelKeyBits = 21;
+constexpr std::uint64_t kVoxelKeyMask = (std::uint64_t{1} << kVoxelKeyBits) - 1;
 
 CellLabel labelAt(const TraversabilityMap& map, double x, double y) {
   const Eigen::Vector2i cell = map.grid.cellOf(x, y);
@@ -87,7 +97,7 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
     const int drawn = int(drawnAsGround(labelOf(triangle[0]))) +
                       int(drawnAsGround(labelOf(triangle[1]))) +
                       int(drawnAsGround(labelOf(triangle[2])));
-    if (drawn < 2) continue;
+    if (drawn < kMinDrawnCorners) continue;
     scene.triangles.push_back({vertex(triangle[0]), vertex(triangle[1]), vertex(triangle[2])});
   }
 
@@ -153,7 +163,9 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
       bins[index].high = std::max(bins[index].high, p.z() + cell / 2);
     }
     // Standing: the wall's cells begin right above the foot band.
-    auto standing = [cell](const Bin& bin) { return bin.low < kSnapToGround + 1.5 * cell; };
+    auto standing = [cell](const Bin& bin) {
+      return bin.low < kSnapToGround + kStandingCells * cell;
+    };
     Eigen::Matrix3d axes_in_map;
     axes_in_map << along, out, Eigen::Vector3d::UnitZ();
     for (std::size_t first = 0; first < bins.size();) {
@@ -197,8 +209,9 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
     const auto ix = std::int64_t(std::floor(o.x / kCubeSize)),
                iy = std::int64_t(std::floor(o.y / kCubeSize)),
                iz = std::int64_t(std::floor(o.z / kCubeSize));
-    const std::uint64_t key = (std::uint64_t(ix & 0x1FFFFF) << 42) |
-                              (std::uint64_t(iy & 0x1FFFFF) << 21) | std::uint64_t(iz & 0x1FFFFF);
+    const std::uint64_t key = ((std::uint64_t(ix) & kVoxelKeyMask) << (2 * kVoxelKeyBits)) |
+                              ((std::uint64_t(iy) & kVoxelKeyMask) << kVoxelKeyBits) |
+                              (std::uint64_t(iz) & kVoxelKeyMask);
     if (!voxels.insert(key).second) continue;
     SceneBox cube;
     const Eigen::Vector3d centre((double(ix) + 0.5) * kCubeSize, (double(iy) + 0.5) * kCubeSize,

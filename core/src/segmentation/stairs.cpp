@@ -54,6 +54,13 @@ constexpr double kMinTreadSpread = 0.02;
 constexpr double kMaxTreadSlopeDeg = 10.0;
 // The height grid never grows beyond this many cells (the search area shrinks around the scanner).
 constexpr std::size_t kMaxGridCells = 8'000'000;
+// A riser's face is the middle of its cell's vertical extent: this share at the foot may be the
+// tread in front, the same share at the top the nosing's rounded edge.
+constexpr float kFaceEndShare = 0.25F;
+// A cell needs two points to have a vertical extent at all.
+constexpr std::uint32_t kMinRiserCellPoints = 2;
+// A riser line is fitted through at least two cells' faces: one gives no direction.
+constexpr std::size_t kMinRiserCells = 2;
 
 struct HeightCell {
   float lowest = std::numeric_limits<float>::infinity();
@@ -125,7 +132,7 @@ class HeightGrid {
     for (const MapPoint& p : points_) {
       HeightCell& c = cells_[p.cell];
       const float span = c.top - c.lowest;
-      if (p.z > c.lowest + 0.25F * span && p.z < c.top - 0.25F * span) {
+      if (p.z > c.lowest + kFaceEndShare * span && p.z < c.top - kFaceEndShare * span) {
         c.face_x += p.x;
         c.face_y += p.y;
         ++c.face_count;
@@ -160,7 +167,7 @@ class HeightGrid {
 
   bool isRiserCell(std::uint32_t cell, const StairParams& params) const {
     const HeightCell& c = cells_[cell];
-    if (c.count < 2 || c.tall || c.face_count == 0) return false;
+    if (c.count < kMinRiserCellPoints || c.tall || c.face_count == 0) return false;
     const double span = c.top - c.lowest;
     return span >= kMinVisibleRiseShare * params.min_rise &&
            span <= params.max_rise + kHeightTolerance;
@@ -393,7 +400,7 @@ std::vector<Staircase> detectStairs(const Scan& scan, const Eigen::Isometry3d& m
   const double cell = grid.cellSize();
   std::vector<Riser> pieces;
   for (auto& component : grid.riserComponents(params))
-    if (component.size() >= 2) pieces.push_back(fitRiser(grid, std::move(component)));
+    if (component.size() >= kMinRiserCells) pieces.push_back(fitRiser(grid, std::move(component)));
   std::vector<Riser> risers;
   for (Riser& riser : joinPieces(grid, pieces))
     if (riser.length() >= params.min_width && riser.thickness <= cell) risers.push_back(riser);

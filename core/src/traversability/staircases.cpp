@@ -111,7 +111,7 @@ void labelStairs(const ScanAnalysis& analysis, const RobotParams& robot, Travers
     if (s < 0) continue;
     map.labels[cell] = std::uint8_t(verdicts[std::size_t(s)].first);
     map.reasons[cell] = std::uint8_t(verdicts[std::size_t(s)].second);
-    map.orientation[cell] = 255;
+    map.orientation[cell] = kNoOrientation;
   }
 }
 

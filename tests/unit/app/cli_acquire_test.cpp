@@ -163,7 +163,7 @@ TEST(CliAcquire, TheArmsPoseTravelsWithTheScanAndTheGarageDoorIsJudgedRight) {
     SegmentationParams params;
     params.robot.width = width;
     run.result = runPipeline(loaded, params);
-    ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+    ASSERT_TRUE(run.result.trusted()) << run.result.reason;
     EXPECT_EQ(test::connectedInMap(run, inside, outside), width < 0.9);
   }
 }

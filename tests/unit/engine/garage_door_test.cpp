@@ -31,7 +31,7 @@ class GarageDoor : public ::testing::TestWithParam<Orientation> {};
 TEST_P(GarageDoor, TheSmallRobotGetsOutCarefullyTheWideOneDoesNot) {
   const auto [lines, tilt, roll] = GetParam();
   const auto small = test::simulateAndSegment("garage", lines, robot(0.85), tilt, roll);
-  ASSERT_TRUE(small.result.trusted()) << small.result.analysis.reason;
+  ASSERT_TRUE(small.result.trusted()) << small.result.reason;
   EXPECT_TRUE(test::connectedInMap(small, kInside, kOutside)) << "0.85 m robot, 0.9 m door";
   // The way through the door is narrow: careful (orange), not plain green.
   EXPECT_EQ(test::labelAtWorld(small, kDoor), CellLabel::kCareful);
@@ -53,7 +53,7 @@ TEST(GarageDoorHeight, ARobotTallerThanTheDoorCannotPassUnderTheLintel) {
   EXPECT_FALSE(test::connectedInMap(tall, kInside, kOutside));
   // The door is red because the lintel is too low: its front face is marked so.
   const Eigen::Isometry3d map_from_world =
-      tall.result.analysis.map_from_scanner *
+      tall.result.analysis->map_from_scanner *
       tall.simulated.truth.placement.worldFromScanner().inverse();
   int too_low = 0;
   for (double x = 3.9; x <= 4.3; x += 0.025)
@@ -76,7 +76,7 @@ TEST(GarageDoorSafety, NoCellIsShownTraversableWhereTheRobotCannotStand) {
     eval::SegmentationResult result;
     result.robot = {width, 1.2, 1.5, 0.1};
     result.map = eval::resultMapOf(run.result.map.grid, run.result.map.labels,
-                                   run.result.analysis.map_from_scanner);
+                                   run.result.analysis->map_from_scanner);
     result.has_map = true;
     const eval::Evaluation e = eval::evaluate(run.simulated.truth, result);
     EXPECT_GT(e.map.traversable_cells, 1000u);

@@ -77,7 +77,7 @@ std::size_t countLabel(const std::vector<std::uint8_t>& labels, CellLabel label)
 TEST(TraversabilityPeer, FitsTheRobotOnlyOnObservedFreeGroundAndNotWhenTooWide) {
   const RobotParams small = robotOfWidth(0.85);
   const auto run = test::simulateAndSegment("garage", 200, paramsFor(small));
-  const ScanAnalysis& analysis = run.result.analysis;
+  const ScanAnalysis& analysis = *run.result.analysis;
   const auto labels =
       peers::dilateTraversability(analysis, small, MapParams{}, run.result.map.yaws, 2);
   ASSERT_EQ(labels.size(), run.result.map.labels.size());
@@ -104,9 +104,9 @@ TEST(TraversabilityPeer, FitsTheRobotOnlyOnObservedFreeGroundAndNotWhenTooWide) 
 
 TEST(TraversabilityPeer, WithoutGroundNothingIsTraversable) {
   const auto run = test::simulateAndSegment("no-ground", 80);
-  ASSERT_FALSE(run.result.analysis.ground_found);
+  ASSERT_FALSE(run.result.analysis->ground_found);
   const auto labels =
-      peers::dilateTraversability(run.result.analysis, RobotParams{}, MapParams{}, {0.0}, 2);
+      peers::dilateTraversability(*run.result.analysis, RobotParams{}, MapParams{}, {0.0}, 2);
   EXPECT_EQ(countLabel(labels, CellLabel::kTraversable), 0u);
 }
 

@@ -5,6 +5,7 @@
 
 #include <limits>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
 
 #include "clearway/segmentation/line_segments.h"
 #include "engine_fixtures.h"
@@ -72,6 +73,26 @@ TEST(Pipeline, ANewRobotReusesTheAnalysisAndGivesTheSameMapAsAFullRun) {
   EXPECT_NE(rerun.map.labels, first.map.labels);
   EXPECT_LT(rerun.map.counts[std::size_t(CellLabel::kTraversable)],
             first.map.counts[std::size_t(CellLabel::kTraversable)]);
+  // The re-run shares the first run's analysis: the same object, not a copy.
+  EXPECT_EQ(rerun.analysis.get(), first.analysis.get());
+  EXPECT_GE(first.analysis.use_count(), 2);
+  EXPECT_THROW(rerunForRobot(simulated.scan, nullptr, params), std::invalid_argument);
+}
+
+TEST(Pipeline, TheThreadsSettingReachesOpenCvForTheRunOnly) {
+  // OpenCV's thread count is process-wide: a run uses the caller's, and leaves it as it was.
+  const auto simulated = garage();
+  const int before = cv::getNumThreads();
+  const int wanted = before == 1 ? 2 : 1;
+  std::vector<int> during;
+  runPipeline(simulated.scan, {}, wanted, [&](double) {
+    during.push_back(cv::getNumThreads());
+    return true;
+  });
+  ASSERT_FALSE(during.empty());
+  for (int threads : during)
+    EXPECT_EQ(threads, wanted);
+  EXPECT_EQ(cv::getNumThreads(), before);
 }
 
 TEST(Pipeline, ProgressRisesAndCancelStopsTheWork) {
@@ -93,7 +114,7 @@ TEST(Pipeline, ScansTooSparseOrEmptyAreNotTrusted) {
   Scan empty;
   const PipelineResult nothing = runPipeline(empty, {});
   EXPECT_FALSE(nothing.trusted());
-  EXPECT_NE(nothing.analysis.reason.find("too sparse"), std::string::npos);
+  EXPECT_NE(nothing.reason.find("too sparse"), std::string::npos);
 
   Scan nan_scan = garage(20).scan;
   for (std::size_t i = 0; i < nan_scan.size(); ++i) {

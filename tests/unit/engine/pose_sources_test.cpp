@@ -111,16 +111,17 @@ TEST(PoseSources, AnAcquisitionWithASidecarFindsTheGroundItLosesWithoutOne) {
   refuse.ground.estimate_up = 0;
   const PipelineResult refused = runPipeline(bare, refuse);
   EXPECT_FALSE(refused.trusted());
-  EXPECT_NE(refused.analysis.reason.find("no pose"), std::string::npos);
+  EXPECT_NE(refused.reason.find("no pose"), std::string::npos);
   EXPECT_EQ(refused.map.counts[std::size_t(CellLabel::kTraversable)], 0U);
 
   writePoseSidecar(*simulated.scan.sensor_pose, "arm", folder / "acquired.pose.json");
   Scan posed = loadScan(file);
   EXPECT_EQ(resolveScanPose(posed, {}).source, PoseSource::kSidecar);
   const PipelineResult result = runPipeline(posed, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
-  EXPECT_EQ(result.analysis.pose_source, PoseSource::kSidecar);
-  const Plane& floor = result.analysis.planes.planes[std::size_t(result.analysis.reference_ground)];
+  ASSERT_TRUE(result.trusted()) << result.reason;
+  EXPECT_EQ(result.analysis->pose_source, PoseSource::kSidecar);
+  const Plane& floor =
+      result.analysis->planes.planes[std::size_t(result.analysis->reference_ground)];
   EXPECT_GT(std::abs(floor.normal.dot(upOf(*simulated.scan.sensor_pose))), std::cos(0.05));
 }
 

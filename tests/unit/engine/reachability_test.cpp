@@ -25,7 +25,7 @@ SegmentationParams robotOfWidth(double width) {
 
 Eigen::Vector2d mapPosition(const test::SimulatedRun& run, const Eigen::Vector3d& world) {
   const Eigen::Isometry3d map_from_world =
-      run.result.analysis.map_from_scanner *
+      run.result.analysis->map_from_scanner *
       run.simulated.truth.placement.worldFromScanner().inverse();
   return (map_from_world * world).head<2>();
 }
@@ -45,7 +45,7 @@ class OwnPlace : public ::testing::TestWithParam<std::string> {};
 
 TEST_P(OwnPlace, TheRobotsOwnCellsAreReachable) {
   const auto run = test::simulateAndSegment(GetParam(), 200);
-  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
   expectOwnPlaceReachable(run.result.map);
 }
 
@@ -63,7 +63,7 @@ TEST(OwnPlace, TheRobotStandsOnItsOwnCellsInTheRealRoomScan) {
   Scan scan = loadScan(file);
   resolveScanPose(scan, {});
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.reason;
   expectOwnPlaceReachable(result.map);
   // The robot's own cells are no longer an unknown or blocked blob: they are floor.
   const TraversabilityMap& map = result.map;
@@ -77,7 +77,7 @@ TEST(Reachability, TheYardFitsButCannotBeReachedThroughADoorTooNarrow) {
   const TraversabilityMap& map = run.result.map;
   // Every cell of the yard (beyond the door, world x > 4.6) where the robot fits: none reachable.
   const Eigen::Isometry3d map_from_world =
-      run.result.analysis.map_from_scanner *
+      run.result.analysis->map_from_scanner *
       run.simulated.truth.placement.worldFromScanner().inverse();
   const Eigen::Isometry3d world_from_map = map_from_world.inverse();
   int yard_fits = 0, yard_reachable = 0;

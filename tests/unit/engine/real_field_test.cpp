@@ -110,7 +110,7 @@ TEST_P(KittiFrame, DISABLED_TheRoadIsGround) {
   const Scan scan = loadScan(file);
 
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.reason;
 
   const RoadPlane road = fitRoad(scan);
   // The oracle itself: about 1.73 m below the sensor.
@@ -210,7 +210,7 @@ OpenFloorFigures measureOpenFloor(const Scan& scan, const PipelineResult& result
   }
 
   const TraversabilityMap& map = result.map;
-  const Eigen::Isometry3d map_from_scanner = result.analysis.map_from_scanner;
+  const Eigen::Isometry3d map_from_scanner = result.analysis->map_from_scanner;
   auto labelAt = [&](const Eigen::Vector3d& p) {
     const Eigen::Vector3d m = map_from_scanner * p;
     const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
@@ -267,7 +267,7 @@ TEST_P(HannoverScan, OpenFloorIsShownAndNothingGreenStandsOnAnObstacle) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("hannover1/") + GetParam());
   const Scan scan = loadScan(file);
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.reason;
   const OpenFloorFigures figures = measureOpenFloor(scan, result);
   const double shown =
       double(figures.shown) / double(std::max<std::size_t>(figures.open_positions, 1));

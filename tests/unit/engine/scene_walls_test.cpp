@@ -20,7 +20,7 @@ constexpr double kGarageCeiling = 2.6;
 TEST(SceneWalls, GarageWallsAreUprightBoxesStandingOnTheGround) {
   const test::SimulatedRun run = test::simulateAndSegment("garage", 300);
   ASSERT_TRUE(run.result.trusted());
-  const Eigen::Isometry3d& map_from_scanner = run.result.analysis.map_from_scanner;
+  const Eigen::Isometry3d& map_from_scanner = run.result.analysis->map_from_scanner;
   ASSERT_GE(run.result.scene.walls.size(), 3U);
   int standing = 0, hanging = 0;
   for (const SceneBox& box : run.result.scene.walls) {

@@ -23,10 +23,10 @@ TEST(Hallway, FloorAndRampAreGroundTheStairsAreNot) {
   ASSERT_TRUE(run.result.trusted());
   // Two ground planes are accepted: the floor and the 12 degree ramp.
   int ramp_planes = 0;
-  const Eigen::Vector3d up = run.result.analysis.up;
+  const Eigen::Vector3d up = run.result.analysis->up;
   for (int g : run.result.map.accepted_ground) {
     const double slope =
-        std::acos(std::abs(run.result.analysis.planes.planes[std::size_t(g)].normal.dot(up))) *
+        std::acos(std::abs(run.result.analysis->planes.planes[std::size_t(g)].normal.dot(up))) *
         180 / M_PI;
     if (std::abs(slope - 12.0) < 1.0) ++ramp_planes;
   }
@@ -43,8 +43,8 @@ TEST(Hallway, FloorAndRampAreGroundTheStairsAreNot) {
 TEST(NoGround, AScanThatNeverSeesTheFloorShowsNothingTraversable) {
   const auto run = test::simulateAndSegment("no-ground", 200);
   EXPECT_FALSE(run.result.trusted());
-  EXPECT_FALSE(run.result.analysis.reason.empty());
-  EXPECT_NE(run.result.analysis.reason.find("no ground plane"), std::string::npos);
+  EXPECT_FALSE(run.result.reason.empty());
+  EXPECT_NE(run.result.reason.find("no ground plane"), std::string::npos);
   EXPECT_EQ(run.result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
   EXPECT_EQ(run.result.map.counts[std::size_t(CellLabel::kCareful)], 0u);
   EXPECT_EQ(run.result.map.counts[std::size_t(CellLabel::kObstacle)], 0u);
@@ -64,8 +64,9 @@ TEST(Glass, NothingIsTraversableBeyondAnInvisibleGlassWall) {
 TEST(RealScans, TheRoomFloorIsFound) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, "pcl-room/room_scan1.pcd");
   const PipelineResult result = runPipeline(loadScan(file), {});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
-  const Plane& floor = result.analysis.planes.planes[std::size_t(result.analysis.reference_ground)];
+  ASSERT_TRUE(result.trusted()) << result.reason;
+  const Plane& floor =
+      result.analysis->planes.planes[std::size_t(result.analysis->reference_ground)];
   // SOURCE.txt: the floor is at z = -1.27 m below the scanner.
   EXPECT_NEAR(std::abs(floor.normal.z()), 1.0, 0.01);
   EXPECT_NEAR(floor.offset, 1.27, 0.05);
@@ -75,9 +76,9 @@ TEST(RealScans, TheRoomFloorIsFound) {
 TEST(RealScans, OctomapPavedGroundIsGreenAndTheStaircaseIsNot) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, "octomap-stairs/scan.dat");
   const PipelineResult result = runPipeline(loadScan(file), {});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.reason;
   auto labelAt = [&](double x, double y) {
-    const Eigen::Vector3d m = result.analysis.map_from_scanner * Eigen::Vector3d(x, y, -0.15);
+    const Eigen::Vector3d m = result.analysis->map_from_scanner * Eigen::Vector3d(x, y, -0.15);
     const Eigen::Vector2i cell = result.map.grid.cellOf(m.x(), m.y());
     return result.map.grid.inside(cell.x(), cell.y()) ? result.map.label(cell.x(), cell.y())
                                                       : CellLabel::kUnknown;

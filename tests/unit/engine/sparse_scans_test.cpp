@@ -24,7 +24,7 @@ TEST_P(SparseScans, NoFalseTraversableCell) {
   const RobotParams robot;
   result.robot = {robot.width, robot.length, robot.height, robot.max_step};
   result.map = eval::resultMapOf(run.result.map.grid, run.result.map.labels,
-                                 run.result.analysis.map_from_scanner);
+                                 run.result.analysis->map_from_scanner);
   result.has_map = true;
   const eval::Evaluation e = eval::evaluate(run.simulated.truth, result);
   EXPECT_EQ(e.map.false_traversable_cells, 0u)

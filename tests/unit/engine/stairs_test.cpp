@@ -27,7 +27,7 @@ double stairsIou(const test::SimulatedRun& run) {
 // The direction of world +x (where the simulated flights climb) as a map-frame yaw [deg].
 double worldXYawInMap(const test::SimulatedRun& run) {
   const Eigen::Isometry3d map_from_world =
-      run.result.analysis.map_from_scanner *
+      run.result.analysis->map_from_scanner *
       run.simulated.truth.placement.worldFromScanner().inverse();
   const Eigen::Vector3d x = map_from_world.linear() * Eigen::Vector3d::UnitX();
   return std::atan2(x.y(), x.x()) * 180 / std::numbers::pi;
@@ -39,7 +39,7 @@ std::size_t count(const TraversabilityMap& map, CellLabel label) {
 
 // Every cell a staircase covers is labelled `label`; none of them is green or orange.
 void expectStairCells(const PipelineResult& result, CellLabel label) {
-  const auto& cells = result.analysis.stairs.cell_staircase;
+  const auto& cells = result.analysis->stairs.cell_staircase;
   ASSERT_EQ(cells.size(), result.map.labels.size());
   std::size_t covered = 0;
   for (std::size_t cell = 0; cell < cells.size(); ++cell) {
@@ -57,7 +57,8 @@ void expectNoGreenUnderTruthStairs(const test::SimulatedRun& run) {
   for (std::size_t i = 0; i < run.simulated.truth.classes.size(); ++i) {
     if (run.simulated.truth.classes[i] != PointClass::kStairs) continue;
     const Point3f& p = run.simulated.scan.points[i];
-    const Eigen::Vector3d m = run.result.analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
+    const Eigen::Vector3d m =
+        run.result.analysis->map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
     const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
     if (!map.grid.inside(cell.x(), cell.y())) continue;
     ++checked;
@@ -69,7 +70,7 @@ void expectNoGreenUnderTruthStairs(const test::SimulatedRun& run) {
 TEST(Stairs, HallwayFlightIsFoundWithItsRiseTreadDirectionAndSteps) {
   const auto run = test::simulateAndSegment("hallway", 300);
   ASSERT_TRUE(run.result.trusted());
-  const auto& staircases = run.result.analysis.stairs.staircases;
+  const auto& staircases = run.result.analysis->stairs.staircases;
   ASSERT_EQ(staircases.size(), 1u);
   const Staircase& flight = staircases.front();
   EXPECT_EQ(flight.steps(), 4);
@@ -94,7 +95,7 @@ TEST(Stairs, HallwayFlightIsFoundWithItsRiseTreadDirectionAndSteps) {
 TEST(Stairs, StairwellFlightOfTwelveStepsIsFound) {
   const auto run = test::simulateAndSegment("stairwell", 300);
   ASSERT_TRUE(run.result.trusted());
-  const auto& staircases = run.result.analysis.stairs.staircases;
+  const auto& staircases = run.result.analysis->stairs.staircases;
   ASSERT_EQ(staircases.size(), 1u);
   const Staircase& flight = staircases.front();
   EXPECT_GE(flight.steps(), 10);
@@ -114,8 +115,8 @@ TEST(Stairs, OtherRisersAndTreadsAreMeasuredNotAssumed) {
   steep.stair_tread = 0.25;
   const auto run = test::simulateAndSegment("stairwell", 300, {}, 0.0, 0.0, steep);
   ASSERT_TRUE(run.result.trusted());
-  ASSERT_EQ(run.result.analysis.stairs.staircases.size(), 1u);
-  const Staircase& flight = run.result.analysis.stairs.staircases.front();
+  ASSERT_EQ(run.result.analysis->stairs.staircases.size(), 1u);
+  const Staircase& flight = run.result.analysis->stairs.staircases.front();
   EXPECT_NEAR(flight.rise, 0.22, 0.015);
   EXPECT_NEAR(flight.tread, 0.25, 0.03);
   EXPECT_GE(stairsIou(run), 0.7);
@@ -123,7 +124,7 @@ TEST(Stairs, OtherRisersAndTreadsAreMeasuredNotAssumed) {
   // Its risers are higher than the LMF's 20 cm: impassable, and the reason says why.
   expectStairCells(run.result, CellLabel::kImpassable);
   for (std::size_t cell = 0; cell < run.result.map.reasons.size(); ++cell) {
-    if (run.result.analysis.stairs.staircaseAt(cell) < 0) continue;
+    if (run.result.analysis->stairs.staircaseAt(cell) < 0) continue;
     ASSERT_EQ(CellReason(run.result.map.reasons[cell]), CellReason::kStairsTooSteep);
   }
   EXPECT_EQ(reasonName(CellReason::kStairsTooSteep), "stairs too steep");
@@ -132,7 +133,7 @@ TEST(Stairs, OtherRisersAndTreadsAreMeasuredNotAssumed) {
 
 TEST(Stairs, TheRobotsStairAbilityDecidesCarefulOrImpassable) {
   const auto run = test::simulateAndSegment("hallway", 300);
-  ASSERT_EQ(run.result.analysis.stairs.staircases.size(), 1u);
+  ASSERT_EQ(run.result.analysis->stairs.staircases.size(), 1u);
   SegmentationParams params;
   expectStairCells(run.result, CellLabel::kStairs);
   params.robot.max_stair_slope_deg = 25.0;  // the flight is 30 deg
@@ -149,10 +150,10 @@ TEST(Stairs, TheRobotsStairAbilityDecidesCarefulOrImpassable) {
   const PipelineResult wide = rerunForRobot(run.simulated.scan, run.result.analysis, params);
   expectStairCells(wide, CellLabel::kImpassable);
   const std::size_t stair_cell =
-      std::size_t(std::find_if(wide.analysis.stairs.cell_staircase.begin(),
-                               wide.analysis.stairs.cell_staircase.end(),
+      std::size_t(std::find_if(wide.analysis->stairs.cell_staircase.begin(),
+                               wide.analysis->stairs.cell_staircase.end(),
                                [](std::int16_t s) { return s >= 0; }) -
-                  wide.analysis.stairs.cell_staircase.begin());
+                  wide.analysis->stairs.cell_staircase.begin());
   EXPECT_EQ(CellReason(wide.map.reasons[stair_cell]), CellReason::kTooNarrow);
 }
 
@@ -173,7 +174,7 @@ TEST(Stairs, ReportListsEachStaircase) {
   EXPECT_EQ(report["cells"]["stairs"].get<std::size_t>(),
             count(run.result.map, CellLabel::kStairs));
   // The console's hover readout names the flight under the cursor through the per-cell index.
-  const auto& stairs = run.result.analysis.stairs;
+  const auto& stairs = run.result.analysis->stairs;
   const auto cell = std::find_if(stairs.cell_staircase.begin(), stairs.cell_staircase.end(),
                                  [](std::int16_t s) { return s >= 0; });
   ASSERT_NE(cell, stairs.cell_staircase.end());
@@ -186,7 +187,7 @@ TEST(Stairs, NoStairsWhereThereAreNone) {
   for (const std::string scene : {"garage", "doorways", "outdoor", "glass"}) {
     const auto run = test::simulateAndSegment(scene, 300);
     ASSERT_TRUE(run.result.trusted()) << scene;
-    EXPECT_TRUE(run.result.analysis.stairs.staircases.empty()) << scene;
+    EXPECT_TRUE(run.result.analysis->stairs.staircases.empty()) << scene;
     EXPECT_EQ(count(run.result.map, CellLabel::kStairs), 0u) << scene;
     EXPECT_EQ(std::count(run.result.point_classes.begin(), run.result.point_classes.end(),
                          PointClass::kStairs),
@@ -202,7 +203,7 @@ TEST(Stairs, ASteepRampIsNoStaircase) {
   steep.ramp_slope_deg = 30.0;
   const auto run = test::simulateAndSegment("hallway", 300, {}, 0.0, 0.0, steep);
   ASSERT_TRUE(run.result.trusted());
-  ASSERT_EQ(run.result.analysis.stairs.staircases.size(), 1u);  // the stairs lane, not the ramp
+  ASSERT_EQ(run.result.analysis->stairs.staircases.size(), 1u);  // the stairs lane, not the ramp
   for (double x = 3.2; x < 4.0; x += 0.1)
     EXPECT_NE(test::labelAtWorld(run, {x, 0.8, 0.0}), CellLabel::kStairs) << "ramp at " << x;
 }
@@ -242,8 +243,8 @@ TEST(Stairs, DetectorRangesAreValidated) {
 TEST(RealScans, OctomapStaircaseIsMeasuredAndNeverGreen) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, "octomap-stairs/scan.dat");
   const PipelineResult result = runPipeline(loadScan(file), {});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
-  const auto& staircases = result.analysis.stairs.staircases;
+  ASSERT_TRUE(result.trusted()) << result.reason;
+  const auto& staircases = result.analysis->stairs.staircases;
   ASSERT_FALSE(staircases.empty());
   // The flight: the staircase with the most steps. SOURCE.txt: risers ~0.14 m, treads ~0.32 m,
   // climbing along the file's +x.
@@ -253,7 +254,7 @@ TEST(RealScans, OctomapStaircaseIsMeasuredAndNeverGreen) {
   EXPECT_GE(flight.steps(), 5);
   EXPECT_NEAR(flight.rise, 0.14, 0.02);
   EXPECT_NEAR(flight.tread, 0.32, 0.04);
-  const Eigen::Vector3d x = result.analysis.map_from_scanner.linear() * Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d x = result.analysis->map_from_scanner.linear() * Eigen::Vector3d::UnitX();
   EXPECT_NEAR(flight.yawDegrees(), std::atan2(x.y(), x.x()) * 180 / std::numbers::pi, 10.0);
   expectStairCells(result, CellLabel::kStairs);
   EXPECT_GT(
@@ -262,7 +263,7 @@ TEST(RealScans, OctomapStaircaseIsMeasuredAndNeverGreen) {
   // Never green on the flight (SOURCE.txt: x ~ 5.1 .. 9.5 m, y ~ -3 .. 3 m).
   for (double px = 5.2; px <= 9.0; px += 0.1)
     for (double py = -2.5; py <= 2.5; py += 0.1) {
-      const Eigen::Vector3d m = result.analysis.map_from_scanner * Eigen::Vector3d(px, py, 0.0);
+      const Eigen::Vector3d m = result.analysis->map_from_scanner * Eigen::Vector3d(px, py, 0.0);
       const Eigen::Vector2i cell = result.map.grid.cellOf(m.x(), m.y());
       if (!result.map.grid.inside(cell.x(), cell.y())) continue;
       EXPECT_NE(result.map.label(cell.x(), cell.y()), CellLabel::kTraversable)

@@ -41,8 +41,7 @@ TEST(NoGroundReason, ACeilingOnlyScanSaysTheOnlyFlatPlanesAreAboveTheScanner) {
   ASSERT_GT(scan.validCount(), 1000u);
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
   EXPECT_FALSE(result.trusted());
-  EXPECT_NE(result.analysis.reason.find("above the scanner"), std::string::npos)
-      << result.analysis.reason;
+  EXPECT_NE(result.reason.find("above the scanner"), std::string::npos) << result.reason;
   EXPECT_EQ(result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
 }
 
@@ -58,22 +57,21 @@ TEST(NoGroundReason, ASingleLineSaysSo) {
   }
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
   EXPECT_FALSE(result.trusted());
-  EXPECT_NE(result.analysis.reason.find("one scan line"), std::string::npos)
-      << result.analysis.reason;
-  EXPECT_EQ(result.analysis.reason.find("move the robot"), std::string::npos);
+  EXPECT_NE(result.reason.find("one scan line"), std::string::npos) << result.reason;
+  EXPECT_EQ(result.reason.find("move the robot"), std::string::npos);
 }
 
 TEST(NoGroundReason, TooFewPointsSaysSo) {
   Scan scan = fansAgainstPlane(4, -1.0);
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
   EXPECT_FALSE(result.trusted());
-  EXPECT_NE(result.analysis.reason.find("too sparse"), std::string::npos) << result.analysis.reason;
+  EXPECT_NE(result.reason.find("too sparse"), std::string::npos) << result.reason;
 }
 
 TEST(SparseScan, FewLinesShowOrangeWithTheReasonTooSparse) {
   // At 40 lines (9 deg between lines) a 0.1 m step is vouched for only near the turntable axis.
   const auto run = test::simulateAndSegment("hallway", 40);
-  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
   std::size_t sparse = 0;
   for (std::size_t cell = 0; cell < run.result.map.labels.size(); ++cell)
     if (run.result.map.reasons[cell] == std::uint8_t(CellReason::kSparse)) {
@@ -93,10 +91,15 @@ TEST(SparseScan, NothingVouchedForSaysTooSparse) {
   SegmentationParams params;
   params.robot.max_step = 0.02;
   const auto run = test::simulateAndSegment("garage", 80, params);
-  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
   EXPECT_EQ(run.result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
-  EXPECT_NE(run.result.analysis.reason.find("too sparse"), std::string::npos)
-      << run.result.analysis.reason;
+  EXPECT_NE(run.result.reason.find("too sparse"), std::string::npos) << run.result.reason;
+  // The reason is the robot's, not the analysis': a robot whose step the same scan vouches for
+  // gets green cells and no "too sparse" (the shared analysis keeps no earlier robot's reason).
+  EXPECT_EQ(run.result.analysis->reason, "");
+  const PipelineResult usual = rerunForRobot(run.simulated.scan, run.result.analysis, {});
+  EXPECT_GT(usual.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
+  EXPECT_EQ(usual.reason, "");
 }
 
 TEST(SparseScan, ExpectedGroundSpacingGrowsWithRangeAndFewerLines) {

@@ -24,6 +24,8 @@ enum class CellLabel : std::uint8_t {
   kStairs = 5,       // stairs the robot can climb, with care (else impassable, kStairsTooSteep)
 };
 inline constexpr int kCellLabelCount = 6;
+// TraversabilityMap::orientation of a cell where no orientation fits (orientations are bytes).
+inline constexpr std::uint8_t kNoOrientation = 255;
 
 // Why a cell is red (or why the robot cannot stand there).
 enum class CellReason : std::uint8_t {

@@ -48,11 +48,17 @@ class SegmentationSession : public QObject {
   void setRobot(const RobotParams& robot);
   void setParams(const SegmentationParams& params);
   const SegmentationParams& params() const { return params_; }
+  // Threads every later job uses (load, re-segment, robot re-run), clamped to 1..kMaxThreads;
+  // the running job keeps its own.
+  void setThreads(int threads);
+  int threads() const { return threads_; }
   void cancel();
   bool busy() const;
 
   // Milliseconds a robot change waits for the next one before the re-run starts.
   static constexpr int kRobotDebounceMs = 120;
+  // The most threads the engine is given, as on the command line (clearway-cli --threads).
+  static constexpr int kMaxThreads = 64;
 
  signals:
   void progress(int percent, const QString& what);
@@ -64,6 +70,7 @@ class SegmentationSession : public QObject {
   struct Private;
   std::unique_ptr<Private> d_;
   SegmentationParams params_;
+  int threads_ = kDefaultThreads;
 };
 
 }  // namespace clearway::ui

@@ -1,0 +1,285 @@
+// The traversability stage alone (computeTraversability on hand-built map inputs): corridors 2 cm
+// wider and narrower than the robot, lintels above and below its height, steps above and below
+// its step, an open floor. A failure here is the stage's, not the segmentation's.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "clearway/traversability/traversability_map.h"
+#include "hand_built_map.h"
+
+namespace clearway {
+namespace {
+
+using test::HandBuiltMap;
+
+// The default robot, spelled out: the cases below are sized against it.
+RobotParams testRobot() {
+  RobotParams robot;
+  robot.width = 0.85;
+  robot.length = 1.2;
+  robot.height = 1.5;
+  robot.max_step = 0.1;
+  return robot;
+}
+
+// The margin the issue names: a passage this much wider or narrower than the robot [m].
+constexpr double kTwoCentimetres = 0.02;
+// Heights of a wall's measured points above the floor [m]: from above the step to below the
+// robot's top, so each blocks.
+constexpr double kWallLow = 0.2, kWallHigh = 1.2;
+
+TraversabilityMap mapOf(const HandBuiltMap& built, const RobotParams& robot = testRobot()) {
+  return computeTraversability(built.analysis(), robot, MapParams{}, 2);
+}
+
+struct Cell {
+  CellLabel label;
+  CellReason reason;
+  bool reachable;
+};
+
+Cell cellAt(const TraversabilityMap& map, double x, double y) {
+  const Eigen::Vector2i c = map.grid.cellOf(x, y);
+  EXPECT_TRUE(map.grid.inside(c.x(), c.y())) << "(" << x << ", " << y << ") is off the map";
+  if (!map.grid.inside(c.x(), c.y())) return {CellLabel::kUnknown, CellReason::kNone, false};
+  const std::size_t i = map.grid.index(c.x(), c.y());
+  return {CellLabel(map.labels[i]), CellReason(map.reasons[i]), map.reach[i] != 0};
+}
+
+std::string describe(const Cell& cell) {
+  return std::string(labelName(cell.label)) + " (" + std::string(reasonName(cell.reason)) + ")";
+}
+
+// A corridor along x, from x = 1 to 5, between walls `width` apart centred on y = 0, in an open
+// room; the robot stands in the room at (-1.5, 0) facing +x.
+HandBuiltMap corridor(double width) {
+  HandBuiltMap built(-3.0, -1.5, 6.0, 1.5);
+  built.floor(-2.75, -1.25, 5.75, 1.25).robotAt(-1.5, 0.0, 0.0);
+  for (double side : {-1.0, 1.0})
+    built.face({1.0, side * width / 2}, {5.0, side * width / 2}, kWallLow, kWallHigh);
+  return built;
+}
+
+// Cells on the corridor's centre line, where the robot's whole box is inside the corridor.
+constexpr double kInsideFrom = 2.2, kInsideTo = 3.8;
+// The two cell rows either side of the centre line (cell centres at -2.5 and +2.5 cm).
+constexpr double kCentreRows[] = {-0.025, 0.025};
+
+TEST(TraversabilityStage, ACorridorTwoCentimetresWiderThanTheRobotIsCarefulAlongIt) {
+  const TraversabilityMap map = mapOf(corridor(testRobot().width + kTwoCentimetres));
+  for (double x = kInsideFrom; x <= kInsideTo; x += 0.1)
+    for (double y : kCentreRows) {
+      const Cell cell = cellAt(map, x, y);
+      EXPECT_EQ(cell.label, CellLabel::kCareful)
+          << "at (" << x << ", " << y << "): " << describe(cell);
+      EXPECT_TRUE(cell.reachable) << "at (" << x << ", " << y << ")";
+    }
+  // One cell off the centre line the robot no longer fits (1 cm of play on each side).
+  EXPECT_EQ(cellAt(map, 3.0, 0.075).reason, CellReason::kTooNarrow);
+}
+
+TEST(TraversabilityStage, ACorridorTwoCentimetresNarrowerThanTheRobotIsTooNarrow) {
+  const TraversabilityMap map = mapOf(corridor(testRobot().width - kTwoCentimetres));
+  for (double x = kInsideFrom; x <= kInsideTo; x += 0.1)
+    for (double y : kCentreRows) {
+      const Cell cell = cellAt(map, x, y);
+      EXPECT_EQ(cell.label, CellLabel::kImpassable) << "at (" << x << ", " << y << ")";
+      EXPECT_EQ(reasonName(cell.reason), "too narrow") << "at (" << x << ", " << y << ")";
+      EXPECT_FALSE(cell.reachable);
+    }
+}
+
+TEST(TraversabilityStage, AWideCorridorIsGreen) {
+  const TraversabilityMap map = mapOf(corridor(testRobot().width + 0.3));
+  for (double x = kInsideFrom; x <= kInsideTo; x += 0.1)
+    EXPECT_EQ(cellAt(map, x, 0.025).label, CellLabel::kTraversable) << "at x = " << x;
+}
+
+// A corridor 2 cm wider than the robot running at 37 deg, between none of the uniform orientations
+// (every 15 deg): the robot fits only along it, which the stage tries when a wall says so.
+constexpr double kSlantDeg = 37.0;
+HandBuiltMap slantedCorridor(bool with_wall_plane) {
+  const double yaw = kSlantDeg * std::numbers::pi / 180.0;
+  const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw)), across(-along.y(), along.x());
+  const double half_width = (testRobot().width + kTwoCentimetres) / 2;
+  HandBuiltMap built(-3.0, -3.0, 6.0, 6.0);
+  // The robot faces +x: its own heading, always tried, is not the corridor's.
+  built.floor(-2.75, -2.75, 5.75, 5.75).robotAt(-1.5, -1.5, 0.0);
+  for (double side : {-1.0, 1.0})
+    built.face(1.0 * along + side * half_width * across, 5.0 * along + side * half_width * across,
+               kWallLow, kWallHigh);
+  if (with_wall_plane) built.wallPlane(yaw);
+  return built;
+}
+
+// Labels of the cells whose centres lie within 2 cm of the slanted corridor's centre line, where
+// the robot's whole box is inside it.
+std::vector<CellLabel> slantedCentreLine(const TraversabilityMap& map) {
+  const double yaw = kSlantDeg * std::numbers::pi / 180.0;
+  const Eigen::Vector2d along(std::cos(yaw), std::sin(yaw)), across(-along.y(), along.x());
+  std::vector<CellLabel> labels;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const Eigen::Vector2d centre = map.grid.centre(column, row);
+      const double u = centre.dot(along), v = centre.dot(across);
+      if (u >= kInsideFrom && u <= kInsideTo && std::abs(v) <= 0.02)
+        labels.push_back(map.label(column, row));
+    }
+  return labels;
+}
+
+TEST(TraversabilityStage, ASlantedCorridorFitsOnlyAlongItsWall) {
+  const auto along_wall = slantedCentreLine(mapOf(slantedCorridor(true)));
+  const auto uniform_only = slantedCentreLine(mapOf(slantedCorridor(false)));
+  ASSERT_FALSE(along_wall.empty());
+  ASSERT_EQ(along_wall.size(), uniform_only.size());
+  // With the wall's direction tried, the centre line is careful (1 cm of play on each side) ...
+  EXPECT_EQ(std::count(along_wall.begin(), along_wall.end(), CellLabel::kCareful),
+            std::ptrdiff_t(along_wall.size()));
+  // ... with only the uniform orientations, 7 deg off at best, the box fits nowhere along it.
+  EXPECT_EQ(std::count(uniform_only.begin(), uniform_only.end(), CellLabel::kImpassable),
+            std::ptrdiff_t(uniform_only.size()));
+}
+
+// A closed corridor 1.1 m wide along x from -2 to 4.5 (the only floor on the map), the robot in
+// it at (-0.5, 0) facing +x, and a lintel across it over x = 1.5 .. 1.7 at `lintel_height`. The
+// robot fits along it with 12 cm to spare on each side, never across it (it is 1.2 m long).
+HandBuiltMap corridorWithLintel(double lintel_height) {
+  constexpr double kHalfWidth = 0.55;
+  HandBuiltMap built(-2.5, -1.0, 5.0, 1.0);
+  built.floor(-2.0, -kHalfWidth, 4.5, kHalfWidth).robotAt(-0.5, 0.0, 0.0);
+  for (double side : {-1.0, 1.0})
+    built.face({-2.0, side * (kHalfWidth + 0.01)}, {4.5, side * (kHalfWidth + 0.01)}, kWallLow,
+               kWallHigh);
+  built.slab(1.5, -kHalfWidth, 1.7, kHalfWidth, lintel_height);
+  return built;
+}
+
+TEST(TraversabilityStage, ALintelLowerThanTheRobotBlocksThePassage) {
+  const double below_top = testRobot().height - 0.5;
+  const TraversabilityMap map = mapOf(corridorWithLintel(below_top));
+  const Cell under = cellAt(map, 1.6, 0.025);
+  EXPECT_EQ(under.label, CellLabel::kImpassable) << describe(under);
+  EXPECT_EQ(reasonName(under.reason), "too low");
+  // Beyond it the robot would fit, but cannot get there.
+  const Cell beyond = cellAt(map, 3.2, 0.025);
+  EXPECT_EQ(beyond.label, CellLabel::kTraversable) << describe(beyond);
+  EXPECT_FALSE(beyond.reachable);
+  EXPECT_GT(map.fits_not_reachable_cells, 0U);
+  EXPECT_TRUE(cellAt(map, -0.5, 0.025).reachable);  // its own place
+}
+
+TEST(TraversabilityStage, ALintelHigherThanTheRobotLetsItPass) {
+  const double above_top = testRobot().height + 0.3;
+  const TraversabilityMap map = mapOf(corridorWithLintel(above_top));
+  for (double x : {1.6, 3.2}) {
+    const Cell cell = cellAt(map, x, 0.025);
+    EXPECT_EQ(cell.label, CellLabel::kTraversable) << "at x = " << x << ": " << describe(cell);
+    EXPECT_TRUE(cell.reachable) << "at x = " << x;
+  }
+  EXPECT_EQ(map.fits_not_reachable_cells, 0U);
+}
+
+// An open room whose floor rises at x = 2 (to x = 4.75) by `step`: ground level 1 meeting the
+// reference ground there, with the riser's points measured; the robot at (-1, 0) facing +x.
+constexpr double kRiserX = 1.99;  // the riser's face, in the lower floor's last cell column
+HandBuiltMap stepUp(double step) {
+  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
+  built.floor(-2.75, -1.75, 2.0, 1.75)
+      .floor(2.0, -1.75, 4.75, 1.75, 1, step)
+      .contact(0, 1, step)
+      .robotAt(-1.0, 0.0, 0.0);
+  built.face({kRiserX, -1.75}, {kRiserX, 1.75}, HandBuiltMap::kSampleSpacing, step);
+  return built;
+}
+
+TEST(TraversabilityStage, AStepHigherThanTheRobotTakesBlocks) {
+  const RobotParams robot = testRobot();
+  const TraversabilityMap map = mapOf(stepUp(robot.max_step + 0.05));
+  const Cell upper = cellAt(map, 3.5, 0.025);
+  EXPECT_EQ(upper.label, CellLabel::kImpassable) << describe(upper);
+  EXPECT_EQ(upper.reason, CellReason::kOtherLevel) << describe(upper);
+  EXPECT_FALSE(upper.reachable);
+  // The riser's points above the step block its cell.
+  const Cell riser = cellAt(map, kRiserX, 0.025);
+  EXPECT_EQ(riser.label, CellLabel::kImpassable) << describe(riser);
+  EXPECT_EQ(riser.reason, CellReason::kWall) << describe(riser);
+  EXPECT_EQ(map.accepted_ground, std::vector<int>{0});
+}
+
+TEST(TraversabilityStage, AStepLowerThanTheRobotTakesIsPassable) {
+  const RobotParams robot = testRobot();
+  const TraversabilityMap map = mapOf(stepUp(robot.max_step - 0.04));
+  // The riser is a low obstacle the robot drives over: orange, not red.
+  const Cell riser = cellAt(map, kRiserX, 0.025);
+  EXPECT_EQ(riser.label, CellLabel::kObstacle) << describe(riser);
+  EXPECT_TRUE(riser.reachable);
+  const Cell upper = cellAt(map, 3.5, 0.025);
+  EXPECT_EQ(upper.label, CellLabel::kTraversable) << describe(upper);
+  EXPECT_TRUE(upper.reachable);
+  EXPECT_EQ(map.accepted_ground, (std::vector<int>{0, 1}));
+}
+
+TEST(TraversabilityStage, AHeightJumpWithinOneGroundLevelIsTooSteepOnBothSides) {
+  // One ground plane whose cells jump by more than the step (a kerb the planes did not split).
+  const RobotParams robot = testRobot();
+  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
+  built.floor(-2.75, -1.75, 2.0, 1.75)
+      .floor(2.0, -1.75, 4.75, 1.75, 0, robot.max_step + 0.05)
+      .robotAt(-1.0, 0.0, 0.0);
+  const TraversabilityMap map = mapOf(built, robot);
+  for (double x : {1.975, 2.025}) {
+    const Cell edge = cellAt(map, x, 0.025);
+    EXPECT_EQ(edge.label, CellLabel::kImpassable) << "at x = " << x << ": " << describe(edge);
+    EXPECT_EQ(reasonName(edge.reason), "too steep") << "at x = " << x;
+  }
+}
+
+TEST(TraversabilityStage, AnOpenFloorIsGreenWhereverTheBoxFitsAndReachable) {
+  constexpr double kFloorEdge = 2.5;  // floor over [-2.5, 2.5]^2, grid over [-3, 3]^2
+  const RobotParams robot = testRobot();
+  HandBuiltMap built(-3.0, -3.0, 3.0, 3.0);
+  built.floor(-kFloorEdge, -kFloorEdge, kFloorEdge, kFloorEdge).robotAt(0.3, -0.2, 0.4);
+  const TraversabilityMap map = mapOf(built, robot);
+  // The box fits in every orientation where the floor reaches past its half diagonal.
+  const double fits_within = kFloorEdge - std::hypot(robot.length / 2, robot.width / 2) - 0.05;
+  std::size_t inside = 0;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const Eigen::Vector2d centre = map.grid.centre(column, row);
+      const std::size_t i = map.grid.index(column, row);
+      const auto label = CellLabel(map.labels[i]);
+      EXPECT_NE(label, CellLabel::kObstacle) << centre.transpose();
+      // Near the floor's edge the box fits with little margin (careful) or not at all.
+      if (label == CellLabel::kTraversable || label == CellLabel::kCareful) {
+        EXPECT_TRUE(map.reach[i]) << "fits but unreachable at " << centre.transpose();
+      }
+      if (label == CellLabel::kImpassable) {
+        EXPECT_EQ(CellReason(map.reasons[i]), CellReason::kTooNarrow) << centre.transpose();
+      }
+      if (centre.cwiseAbs().maxCoeff() > fits_within) continue;
+      ++inside;
+      EXPECT_EQ(label, CellLabel::kTraversable) << centre.transpose();
+    }
+  EXPECT_GT(inside, 0U);
+  EXPECT_EQ(map.counts[std::size_t(CellLabel::kTraversable)] +
+                map.counts[std::size_t(CellLabel::kCareful)],
+            map.reachable_cells);
+  EXPECT_EQ(map.fits_not_reachable_cells, 0U);
+  // The robot's own cells are green and reachable.
+  const Cell own = cellAt(map, 0.3, -0.2);
+  EXPECT_EQ(own.label, CellLabel::kTraversable);
+  EXPECT_TRUE(own.reachable);
+  EXPECT_NEAR(map.robot_pose.x, 0.3, 1e-9);
+  EXPECT_NEAR(map.robot_pose.yaw, 0.4, 1e-9);
+}
+
+}  // namespace
+}  // namespace clearway
