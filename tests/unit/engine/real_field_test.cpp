@@ -284,6 +284,48 @@ TEST_P(HannoverScan, OpenFloorIsShownAndNothingGreenStandsOnAnObstacle) {
 
 INSTANTIATE_TEST_SUITE_P(Hannover, HannoverScan, ::testing::Values("scan100.3d", "scan440.3d"));
 
+// ---- A file like Hannover's, built by hand: origin on the ground, fans run together ----
+
+// A full turn of 180 vertical fans from a scanner 0.8 m above an open floor, written as the
+// Hannover files are: the origin on the floor (every floor point at elevation zero from it), four
+// fans to a line (no jump in elevation from the origin to split them at), one return in ten lost.
+// The floor between 2 m and 6 m from the axis must be observed ground all round, not cut into
+// strips between fans that were paired wrongly.
+TEST(GroundLevelOrigin, FansRunTogetherInTheFileStillJoinTheirFloor) {
+  constexpr int kFans = 180, kFansPerLine = 4;
+  constexpr double kScannerHeight = 0.8, kDeg = std::numbers::pi / 180.0;
+  std::mt19937 random(14);
+  std::bernoulli_distribution lost(0.1);
+  Scan scan;
+  for (int f = 0; f < kFans; ++f) {
+    if (f % kFansPerLine == 0) scan.lines.push_back({scan.points.size(), 0});
+    const double beta = 2.0 * std::numbers::pi * f / kFans;
+    // Down to the floor from 60 deg below the horizon to 3 deg (15 m away), 0.5 deg apart.
+    for (double depression = 60.0; depression >= 3.0; depression -= 0.5) {
+      if (lost(random)) continue;
+      const double range = kScannerHeight / std::tan(depression * kDeg);
+      scan.points.push_back({float(std::cos(beta) * range), float(std::sin(beta) * range), 0.0F});
+      scan.status.push_back(PointStatus::kValid);
+      ++scan.lines.back().count;
+    }
+  }
+  scan.sensor_pose = SensorPose{};
+  scan.pose_source = PoseSource::kFile;
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  const TraversabilityMap& map = result.map;
+  std::size_t annulus = 0, unobserved = 0;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const double distance = map.grid.centre(column, row).norm();
+      if (distance < 2.0 || distance > 6.0) continue;
+      ++annulus;
+      unobserved += map.label(column, row) == CellLabel::kUnknown;
+    }
+  EXPECT_GT(annulus, 1000u);
+  EXPECT_LT(double(unobserved), 0.01 * double(annulus)) << unobserved << " of " << annulus;
+}
+
 // ---- The seam: where the turn starts does not change the map ----
 
 // The same scan with its lines turned: line k becomes line (k + shift) mod n, so the turn starts
