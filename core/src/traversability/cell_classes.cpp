@@ -254,10 +254,14 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   // Free ground whose samples are too far apart to vouch for it, or that lies in the shadow of a
   // blocking point.
   classes.sparse = sparseCells(inputs, classes.state, robot, params);
-  std::vector<MapObstacle> blocking;
+  // Only overhangs cast such shadows (cells whose lowest blocking point is "too low" for the robot
+  // to pass under, kOverhangShare): behind a thing standing on the ground no ground is seen while
+  // its beams' continuations are in the band, and the cells along the edge of its shadow (a door
+  // jamb's, seen through the door) would only be caught by the walk's discretisation.
+  std::vector<MapObstacle> overhanging;
   for (const MapObstacle& o : inputs.obstacles)
-    if (blocks(o)) blocking.push_back(o);
-  const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, blocking);
+    if (blocks(o) && classes.reason[o.cell] == CellReason::kTooLow) overhanging.push_back(o);
+  const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging);
   for (std::size_t cell = 0; cell < cells; ++cell)
     if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
                          classes.state[cell] == CellState::kLowObstacle))
