@@ -95,11 +95,11 @@ std::vector<std::uint8_t> sparseCells(const MapInputs& inputs, const std::vector
   return sparse;
 }
 
-// Ground cells in the shadow of a blocking point, where something as tall as the step could stand
-// unseen between the step and the robot's height (docs/ALGORITHM.md, "Sparse scans never lie").
-// All beams leave the scanner, so the space behind a return, along its beam, was seen by no beam:
-// behind an overhang (a pipe bridge seen from below) the floor is observed by the beams that pass
-// under it, but the robot's band above that floor only as far as they rise. Per cell of blocking
+// Ground cells in the shadow of the given (overhanging) points, where something as tall as the step
+// could stand unseen between the step and the robot's height (docs/ALGORITHM.md, "Sparse scans
+// never lie"). All beams leave the scanner, so the space behind a return, along its beam, was seen
+// by no beam: behind an overhang (a pipe bridge seen from below) the floor is observed by the beams
+// that pass under it, but the robot's band above that floor only as far as they rise. Per cell of
 // points, the beams of its lowest and highest point are followed on beyond them over the map; a
 // ground cell is hidden where the band between the two continues within (step, height) above its
 // ground. The walk ends where that band has left (step, height) above the points' own ground,
