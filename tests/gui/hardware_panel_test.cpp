@@ -1,5 +1,6 @@
 // The Scanner panel (offscreen): each device shows only its own fields, Disconnect, the mounting
-// edited and checked, and the arm's pose shown and saved beside the acquired scan.
+// edited and checked, the ground density for the chosen line count, and the arm's pose shown and
+// saved beside the acquired scan.
 
 #include <QComboBox>
 #include <QDir>
@@ -9,6 +10,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QPushButton>
+#include <QRegularExpression>
 #include <QSignalSpy>
 #include <QSpinBox>
 #include <QTemporaryDir>
@@ -69,6 +71,38 @@ class HardwarePanelTest : public QObject {
     panel.connectScanner();
     QVERIFY(panel.findChild<QLabel*>("scannerStatus")->text().contains("not a pose"));
     QVERIFY(!panel.findChild<QPushButton*>("disconnectButton")->isEnabled());
+  }
+
+  void theDensityFollowsTheChosenLineCount() {
+    HardwarePanel panel;
+    auto* lines = panel.findChild<QSpinBox*>("scanLines");
+    auto* density = panel.findChild<QLabel*>("groundDensity");
+    QVERIFY(density);
+    QVERIFY(density->isVisibleTo(&panel));
+    // "green possible up to X m": how far from the scanner ground can be vouched for.
+    const auto vouched = [&] {
+      const QRegularExpressionMatch match =
+          QRegularExpression("up to ([0-9.]+) m").match(density->text());
+      return match.hasMatch() ? match.captured(1).toDouble() : -1.0;
+    };
+    // The simulated garage (its scanner 1.2 m high), the default robot (0.1 m step).
+    panel.findChild<QComboBox*>("simulatedScene")->setCurrentText("garage");
+    lines->setValue(40);
+    const double at_40 = vouched();
+    lines->setValue(80);
+    const double at_80 = vouched();
+    lines->setValue(423);
+    const double at_423 = vouched();
+    QVERIFY2(at_40 > 0.0, qPrintable(density->text()));
+    // Across the turn the samples are (distance x 2 pi / lines) apart: twice the lines, twice as
+    // far; at 423 lines the 0.5 deg along each line limits it instead (11.5 m).
+    // (The readout rounds to 0.1 m.)
+    QVERIFY2(std::abs(at_80 - 2.0 * at_40) <= 0.15,
+             qPrintable(QString("%1 %2").arg(at_40).arg(at_80)));
+    QVERIFY2(at_423 > at_80 && at_423 < 12.0, qPrintable(density->text()));
+    // A robot with a smaller step is vouched for nearer.
+    panel.setRobotStep(0.05);
+    QVERIFY2(vouched() < at_423, qPrintable(density->text()));
   }
 
   void theArmsPoseIsShownAndSavedWithTheScan() {

@@ -21,7 +21,9 @@
 #include "clearway/hardware/simulated_rosi.h"
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_io.h"
+#include "clearway/segmentation/params.h"
 #include "clearway/sim/builtin_scenes.h"
+#include "clearway/traversability/ground_density.h"
 #include "remote_scanner_fields.h"
 
 namespace clearway::ui {
@@ -32,12 +34,22 @@ namespace {
 constexpr int kSimulatedPage = 0;
 constexpr int kSerialPage = 1;
 constexpr int kRemotePage = 2;  // clearway-cli serve on the robot (docs/PROTOCOL.md)
+
+// The density readout: the LMS200's beams are 0.5 deg apart along a line, and a RoSi on a real
+// robot's arm is about this high above the floor (the simulated scenes give their own) [m].
+constexpr double kLms200StepDeg = 0.5;
+constexpr double kTypicalScannerHeight = 1.0;
+// Ranges at which the spacing of the ground samples is shown [m].
+constexpr double kNearRange = 2.0;
+constexpr double kFarRange = 5.0;
 }  // namespace
 
 struct HardwarePanel::Private {
   QComboBox* device = nullptr;
   QComboBox* scene = nullptr;
   QSpinBox* lines = nullptr;
+  QLabel* density = nullptr;  // the ground-sample density the chosen line count gives
+  double robot_step = RobotParams{}.max_step;
   QPushButton* connect = nullptr;
   QPushButton* disconnect = nullptr;
   QStackedWidget* fields = nullptr;  // the chosen device's own fields only
@@ -145,6 +157,20 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->lines->setValue(300);
   d_->lines->setToolTip(tr("Lines per revolution (the LMS200 gives 37.5 lines per second)"));
   form->addRow(tr("Lines"), d_->lines);
+  d_->density = new QLabel(this);
+  d_->density->setObjectName("groundDensity");
+  d_->density->setWordWrap(true);
+  d_->density->setToolTip(
+      tr("How far apart the scan's ground samples lie, and how far from the scanner the map can "
+         "show ground green: beyond, an obstacle taller than the robot's step could stand "
+         "between the samples unseen (docs/ALGORITHM.md, \"Sparse scans never lie\")"));
+  form->addRow(tr("Density"), d_->density);
+  connect(d_->lines, qOverload<int>(&QSpinBox::valueChanged), this,
+          &HardwarePanel::showGroundDensity);
+  connect(d_->scene, &QComboBox::currentTextChanged, this, &HardwarePanel::showGroundDensity);
+  connect(d_->device, qOverload<int>(&QComboBox::currentIndexChanged), this,
+          &HardwarePanel::showGroundDensity);
+  showGroundDensity();
   auto* buttons = new QHBoxLayout;
   d_->connect = new QPushButton(tr("Connect"), this);
   d_->connect->setObjectName("connectButton");
@@ -192,6 +218,32 @@ void HardwarePanel::setSpeedup(double speedup) {
   d_->speedup = speedup;
   if (auto* simulated = dynamic_cast<hardware::SimulatedRosi*>(d_->scanner.get()))
     simulated->setSpeedup(speedup);
+}
+
+void HardwarePanel::setRobotStep(double max_step) {
+  d_->robot_step = max_step;
+  showGroundDensity();
+}
+
+void HardwarePanel::showGroundDensity() {
+  const int lines = d_->lines->value();
+  double height = kTypicalScannerHeight;
+  if (d_->device->currentIndex() == kSimulatedPage) {
+    if (const auto scene = sim::builtinScene(d_->scene->currentText().toStdString()))
+      height = scene->scanner_position.z();
+  }
+  const SensorGeometry sensor = rosiGeometry(lines, kLms200StepDeg);
+  const double vouched = vouchedGroundRange(sensor, height, d_->robot_step);
+  d_->density->setText(
+      tr("Ground samples %1 m apart at %2 m, %3 m at %4 m; green possible up to %5 m from the "
+         "scanner (%6 m step, scanner %7 m above the floor)")
+          .arg(expectedGroundSpacing(sensor, kNearRange, height), 0, 'f', 2)
+          .arg(kNearRange, 0, 'f', 0)
+          .arg(expectedGroundSpacing(sensor, kFarRange, height), 0, 'f', 2)
+          .arg(kFarRange, 0, 'f', 0)
+          .arg(vouched, 0, 'f', 1)
+          .arg(d_->robot_step, 0, 'f', 2)
+          .arg(height, 0, 'f', 1));
 }
 
 void HardwarePanel::connectScanner() {

@@ -212,6 +212,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
           [this] { d_->floor_action->setChecked(true); });
   connect(d_->type_pose, &QPushButton::clicked, this, &MainWindow::editScanPose);
   connect(d_->robot, &RobotPanel::robotChanged, d_->session, &SegmentationSession::setRobot);
+  connect(d_->robot, &RobotPanel::robotChanged, d_->hardware,
+          [this](const RobotParams& robot) { d_->hardware->setRobotStep(robot.max_step); });
   connect(d_->robot, &RobotPanel::maxSlopeChanged, this, [this](double degrees) {
     SegmentationParams params = d_->session->params();
     params.ground.max_slope_deg = degrees;

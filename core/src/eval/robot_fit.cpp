@@ -58,15 +58,32 @@ constexpr double kLongestCast = 100.0;
 // (at most 60 deg from vertical; steeper is a wall's side, not a floor).
 constexpr double kMinGroundNormalUp = 0.5;
 
+// Walkable surfaces tilted against each other (the outdoor scene's paving slabs) leave a V-shaped
+// crack a few millimetres wide at their joint, which a wheel rolls over. A vertical probe that
+// falls into one (it misses, or meets a slab's side face) takes the higher of the surfaces this
+// far to either side [m].
+constexpr double kCrackWidth = 0.01;
+
 }  // namespace
 
 RobotFit::RobotFit(const sim::Scene& scene)
     : scene_(scene), walkable_(walkableOnly(scene)), walkable_caster_(walkable_) {}
 
 std::optional<double> RobotFit::groundHeight(double x, double y, double from_z) const {
-  const auto hit = walkable_caster_.cast({x, y, from_z}, -Eigen::Vector3d::UnitZ(), kLongestCast);
-  if (!hit || hit->normal.z() < kMinGroundNormalUp) return std::nullopt;
-  return from_z - hit->distance;
+  auto probe = [&](double px, double py) -> std::optional<double> {
+    const auto hit =
+        walkable_caster_.cast({px, py, from_z}, -Eigen::Vector3d::UnitZ(), kLongestCast);
+    if (!hit || hit->normal.z() < kMinGroundNormalUp) return std::nullopt;
+    return from_z - hit->distance;
+  };
+  if (const auto height = probe(x, y)) return height;
+  // Fell into a crack: the higher of the surfaces either side carries the robot.
+  std::optional<double> carried;
+  for (const auto& [dx, dy] : {std::pair{kCrackWidth, 0.0}, std::pair{-kCrackWidth, 0.0},
+                               std::pair{0.0, kCrackWidth}, std::pair{0.0, -kCrackWidth}})
+    if (const auto height = probe(x + dx, y + dy); height && (!carried || *height > *carried))
+      carried = height;
+  return carried;
 }
 
 bool RobotFit::fits(const sim::RobotBox& robot, const Eigen::Vector3d& center, double yaw) const {

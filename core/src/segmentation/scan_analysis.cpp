@@ -116,7 +116,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
     analysis.stairs.staircases = detectStairs(scan, analysis.map_from_scanner, params.stairs);
   clock.stop("stairs");
 
-  prepareMapInputs(scan, params, analysis);
+  analysis.inputs = prepareMapInputs(scan, params, analysis, threads);
   analysis.stairs.cell_staircase = staircaseCells(analysis.stairs.staircases, analysis.inputs.grid);
   clock.stop("map_inputs");
   reportProgress(progress, 1.0);

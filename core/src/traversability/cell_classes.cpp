@@ -95,6 +95,68 @@ std::vector<std::uint8_t> sparseCells(const MapInputs& inputs, const std::vector
   return sparse;
 }
 
+// Ground cells in the shadow of the given (overhanging) points, where something as tall as the step
+// could stand unseen between the step and the robot's height (docs/ALGORITHM.md, "Sparse scans
+// never lie"). All beams leave the scanner, so the space behind a return, along its beam, was seen
+// by no beam: behind an overhang (a pipe bridge seen from below) the floor is observed by the beams
+// that pass under it, but the robot's band above that floor only as far as they rise. Per cell of
+// points, the beams of its lowest and highest point are followed on beyond them over the map; a
+// ground cell is hidden where the band between the two continues within (step, height) above its
+// ground. The walk ends where that band has left (step, height) above the points' own ground,
+// or at the grid's edge.
+std::vector<std::uint8_t> hiddenCells(const ScanAnalysis& analysis, const RobotParams& robot,
+                                      const std::vector<MapObstacle>& blocking) {
+  const MapInputs& inputs = analysis.inputs;
+  const MapGrid& grid = inputs.grid;
+  std::vector<std::uint8_t> hidden(grid.cells(), 0);
+  // Per cell: its lowest and highest blocking point (their beams bound the shadow behind it).
+  struct Span {
+    const MapObstacle* low = nullptr;
+    const MapObstacle* high = nullptr;
+  };
+  std::vector<Span> spans(grid.cells());
+  std::vector<std::uint32_t> used;
+  for (const MapObstacle& o : blocking) {
+    Span& span = spans[o.cell];
+    if (!span.low) used.push_back(o.cell);
+    if (!span.low || o.z < span.low->z) span.low = &o;
+    if (!span.high || o.z > span.high->z) span.high = &o;
+  }
+  const Eigen::Vector3d scanner = analysis.map_from_scanner.translation();
+  const double step = robot.max_step, top = robot.height;
+  // Half a cell per step of the walk: no cell the beam passes over is skipped.
+  const double stride = 0.5 * grid.resolution;
+  for (const std::uint32_t cell : used) {
+    const MapObstacle& low = *spans[cell].low;
+    const MapObstacle& high = *spans[cell].high;
+    const Eigen::Vector2d from(low.x, low.y);
+    Eigen::Vector2d direction = from - scanner.head<2>();
+    const double distance = direction.norm();
+    if (distance < stride) continue;  // straight above or below the scanner: no beyond
+    direction /= distance;
+    // Rise of each beam per metre beyond its point, seen from the scanner.
+    const double high_distance =
+        std::max(stride, (Eigen::Vector2d(high.x, high.y) - scanner.head<2>()).norm());
+    const double low_rise = (low.z - scanner.z()) / distance;
+    const double high_rise = (high.z - scanner.z()) / high_distance;
+    const double own_ground = double(low.z) - double(low.height);
+    const double longest = std::hypot(grid.width, grid.height) * grid.resolution;
+    for (double t = stride; t <= longest; t += stride) {
+      const double z_low = low.z + low_rise * t, z_high = high.z + high_rise * t;
+      const double bottom = std::min(z_low, z_high), upper = std::max(z_low, z_high);
+      if (bottom - own_ground >= top || upper - own_ground <= step) break;
+      const Eigen::Vector2d at = from + t * direction;
+      const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
+      if (!grid.inside(c.x(), c.y())) break;
+      const std::size_t index = grid.index(c.x(), c.y());
+      if (inputs.ground_plane[index] < 0) continue;
+      const double ground = inputs.ground_height[index];
+      if (upper - ground > step && bottom - ground < top) hidden[index] = 1;
+    }
+  }
+  return hidden;
+}
+
 }  // namespace
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
@@ -189,8 +251,21 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
         classes.reason[cell] = CellReason::kNone;
       }
   }
-  // Free ground whose samples are too far apart to vouch for it.
+  // Free ground whose samples are too far apart to vouch for it, or that lies in the shadow of a
+  // blocking point.
   classes.sparse = sparseCells(inputs, classes.state, robot, params);
+  // Only overhangs cast such shadows (cells whose lowest blocking point is "too low" for the robot
+  // to pass under, kOverhangShare): behind a thing standing on the ground no ground is seen while
+  // its beams' continuations are in the band, and the cells along the edge of its shadow (a door
+  // jamb's, seen through the door) would only be caught by the walk's discretisation.
+  std::vector<MapObstacle> overhanging;
+  for (const MapObstacle& o : inputs.obstacles)
+    if (blocks(o) && classes.reason[o.cell] == CellReason::kTooLow) overhanging.push_back(o);
+  const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging);
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
+                         classes.state[cell] == CellState::kLowObstacle))
+      classes.sparse[cell] = 1;
 
   // Blocking points in CSR layout for the exact narrow-passage check.
   classes.point_start.assign(cells + 1, 0);

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "clearway/segmentation/scan_analysis.h"
+#include "clearway/traversability/ground_density.h"
 #include "clearway/traversability/traversability_map.h"
 
 namespace clearway::detail {
@@ -23,7 +24,8 @@ struct CellClasses {
   std::vector<float> xs, ys;
   std::vector<int> accepted_ground;
   // 1 on free cells whose ground samples are too far apart to rule out an obstacle taller than
-  // the robot's step between them (MapInputs::ground_spacing against the step).
+  // the robot's step between them (MapInputs::ground_spacing against the step), or where the
+  // robot's band above the ground lies in an overhang's shadow.
   std::vector<std::uint8_t> sparse;
 };
 
@@ -33,10 +35,6 @@ struct CellClasses {
 // hid from a wall behind it.
 // The same classes with every sparse cell blocked (reason kSparse, not by points).
 CellClasses withSparseBlocked(const CellClasses& classes);
-
-// Ground samples at most this many robot steps apart leave no room for a hidden obstacle taller
-// than the step: a triangle whose edges are all at most 2 s holds no square wider than s.
-inline constexpr double kSpacingPerStep = 2.0;
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
                           const MapParams& params, const RobotPose* own_place = nullptr);

@@ -276,12 +276,61 @@ TEST_P(HannoverScan, OpenFloorIsShownAndNothingGreenStandsOnAnObstacle) {
             << "), " << figures.green_over_obstacle
             << " green cells with a point 0.3-1.5 m above the local ground\n";
   EXPECT_GT(figures.open_positions, 100u);
-  // The issue asks for 0.80; today 0.70-0.74 (before: 0.30-0.33). This guards what was reached.
-  EXPECT_GE(shown, 0.65);
+  // Issue 14 asks for 0.80 (0.90 on both scans since fans run together in the file and a
+  // turntable's second pass are triangulated as such; before: 0.70-0.74, and 0.30-0.33 at first).
+  EXPECT_GE(shown, 0.80);
   EXPECT_EQ(figures.green_over_obstacle, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Hannover, HannoverScan, ::testing::Values("scan100.3d", "scan440.3d"));
+
+// ---- A file like Hannover's, built by hand: origin on the ground, fans run together ----
+
+// A full turn of 180 vertical fans from a scanner 0.8 m above an open floor ringed by a wall
+// 16 m away, written as the Hannover files are: the origin on the floor (every floor point at
+// elevation zero from it), four fans to a line (no jump in elevation from the origin to split
+// them at), one return in ten lost, and each fan going up the wall as far as it happens to see
+// (a tree, a facade): lines of different lengths. The floor between 2 m and 6 m from the axis must
+// be observed ground all round, not cut into strips between fans that were paired wrongly.
+TEST(GroundLevelOrigin, FansRunTogetherInTheFileStillJoinTheirFloor) {
+  constexpr int kFans = 180, kFansPerLine = 4;
+  constexpr double kScannerHeight = 0.8, kWallRange = 16.0, kDeg = std::numbers::pi / 180.0;
+  std::mt19937 random(14);
+  std::bernoulli_distribution lost(0.1);
+  std::uniform_int_distribution<int> up_the_wall(0, 60);  // returns, 0.5 deg apart
+  Scan scan;
+  auto add = [&](double beta, double range, double z) {
+    if (lost(random)) return;
+    scan.points.push_back({float(std::cos(beta) * range), float(std::sin(beta) * range), float(z)});
+    scan.status.push_back(PointStatus::kValid);
+    ++scan.lines.back().count;
+  };
+  for (int f = 0; f < kFans; ++f) {
+    if (f % kFansPerLine == 0) scan.lines.push_back({scan.points.size(), 0});
+    const double beta = 2.0 * std::numbers::pi * f / kFans;
+    // Down to the floor from 60 deg below the horizon to where it meets the wall, 0.5 deg apart.
+    double elevation = -60.0;
+    for (; kScannerHeight / std::tan(-elevation * kDeg) < kWallRange; elevation += 0.5)
+      add(beta, kScannerHeight / std::tan(-elevation * kDeg), 0.0);
+    for (int k = up_the_wall(random); k > 0; --k, elevation += 0.5)
+      add(beta, kWallRange, kScannerHeight + kWallRange * std::tan(elevation * kDeg));
+  }
+  scan.sensor_pose = SensorPose{};
+  scan.pose_source = PoseSource::kFile;
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  const TraversabilityMap& map = result.map;
+  std::size_t annulus = 0, unobserved = 0;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const double distance = map.grid.centre(column, row).norm();
+      if (distance < 2.0 || distance > 6.0) continue;
+      ++annulus;
+      unobserved += map.label(column, row) == CellLabel::kUnknown;
+    }
+  EXPECT_GT(annulus, 1000u);
+  EXPECT_LT(double(unobserved), 0.01 * double(annulus)) << unobserved << " of " << annulus;
+}
 
 // ---- The seam: where the turn starts does not change the map ----
 

@@ -1,11 +1,11 @@
 // Sparse scans never lie: at any line count, straight or tilted, no cell is shown traversable
-// (green or careful) where the simulator's truth says the robot cannot stand. A subset of the
-// table in docs/ALGORITHM.md; scripts/sparse-table produces the whole table with clearway-cli.
+// (green or careful) where the simulator's truth says the robot cannot stand. All 60 cases of
+// the table in docs/ALGORITHM.md; scripts/sparse-table produces it with clearway-cli.
 
 #include <gtest/gtest.h>
 
 #include <string>
-#include <tuple>
+#include <vector>
 
 #include "clearway/eval/evaluation.h"
 #include "engine_fixtures.h"
@@ -13,13 +13,19 @@
 namespace clearway {
 namespace {
 
-using SparseCase = std::tuple<const char*, int, double>;  // scene, lines, tilt [deg]
+// scene, lines, tilt [deg], false-traversable cells still allowed (0 but for the open cases).
+struct SparseCase {
+  const char* scene;
+  int lines;
+  double tilt;
+  std::size_t allowed_false = 0;
+};
 
 class SparseScans : public ::testing::TestWithParam<SparseCase> {};
 
 TEST_P(SparseScans, NoFalseTraversableCell) {
-  const auto [scene, lines, tilt] = GetParam();
-  const auto run = test::simulateAndSegment(scene, lines, SegmentationParams{}, tilt);
+  const SparseCase c = GetParam();
+  const auto run = test::simulateAndSegment(c.scene, c.lines, SegmentationParams{}, c.tilt);
   eval::SegmentationResult result;
   const RobotParams robot;
   result.robot = {robot.width, robot.length, robot.height, robot.max_step};
@@ -27,31 +33,33 @@ TEST_P(SparseScans, NoFalseTraversableCell) {
                                  run.result.analysis->map_from_scanner);
   result.has_map = true;
   const eval::Evaluation e = eval::evaluate(run.simulated.truth, result);
-  EXPECT_EQ(e.map.false_traversable_cells, 0u)
-      << scene << " at " << lines << " lines, tilt " << tilt << ": " << e.map.traversable_cells
-      << " traversable cells";
+  EXPECT_LE(e.map.false_traversable_cells, c.allowed_false)
+      << c.scene << " at " << c.lines << " lines, tilt " << c.tilt << ": "
+      << e.map.traversable_cells << " traversable cells";
 }
 
-// The cases that hold today. Open (docs/ALGORITHM.md, "Known limits"): the outdoor scene's pipe
-// bridge hides its far side (false cells from 40 lines up, 174 at 423 lines), and the garage at 80
-// lines tilted has 6 cells next to the pallet's unseen corner. scripts/sparse-table prints all 60.
-INSTANTIATE_TEST_SUITE_P(
-    ScenesLinesTilts, SparseScans,
-    ::testing::Values(SparseCase{"garage", 20, 0.0}, SparseCase{"garage", 20, 25.0},
-                      SparseCase{"garage", 40, 0.0}, SparseCase{"garage", 40, 25.0},
-                      SparseCase{"garage", 60, 0.0}, SparseCase{"garage", 200, 0.0},
-                      SparseCase{"garage", 423, 0.0}, SparseCase{"garage", 423, 25.0},
-                      SparseCase{"hallway", 40, 0.0}, SparseCase{"hallway", 40, 25.0},
-                      SparseCase{"hallway", 80, 0.0}, SparseCase{"hallway", 80, 25.0},
-                      SparseCase{"doorways", 40, 0.0}, SparseCase{"doorways", 40, 25.0},
-                      SparseCase{"doorways", 80, 0.0}, SparseCase{"doorways", 80, 25.0},
-                      SparseCase{"stairwell", 40, 0.0}, SparseCase{"stairwell", 40, 25.0},
-                      SparseCase{"stairwell", 80, 0.0}, SparseCase{"stairwell", 80, 25.0},
-                      SparseCase{"outdoor", 20, 0.0}, SparseCase{"outdoor", 20, 25.0}),
-    [](const ::testing::TestParamInfo<SparseCase>& test) {
-      return std::string(std::get<0>(test.param)) + "_" + std::to_string(std::get<1>(test.param)) +
-             "_lines_tilt_" + std::to_string(int(std::get<2>(test.param)));
-    });
+// Every scene the issue names at every line count, straight and tilted 25 deg (the table in
+// docs/ALGORITHM.md; scripts/sparse-table prints it with clearway-cli). Open (docs/ALGORITHM.md,
+// "Known limits"): the garage tilted at 80 and 200 lines, where the pallet's corner that no line
+// hit lies a few centimetres beyond its measured points, next to a careful (narrow) fit.
+std::vector<SparseCase> allCases() {
+  std::vector<SparseCase> cases;
+  for (const char* scene : {"garage", "hallway", "doorways", "outdoor", "stairwell"})
+    for (const int lines : {20, 40, 60, 80, 200, 423})
+      for (const double tilt : {0.0, 25.0}) {
+        const bool pallet_corner =
+            std::string(scene) == "garage" && tilt > 0.0 && (lines == 80 || lines == 200);
+        cases.push_back({scene, lines, tilt, pallet_corner ? (lines == 80 ? 4u : 1u) : 0u});
+      }
+  return cases;
+}
+
+INSTANTIATE_TEST_SUITE_P(ScenesLinesTilts, SparseScans, ::testing::ValuesIn(allCases()),
+                         [](const ::testing::TestParamInfo<SparseCase>& test) {
+                           return std::string(test.param.scene) + "_" +
+                                  std::to_string(test.param.lines) + "_lines_tilt_" +
+                                  std::to_string(int(test.param.tilt));
+                         });
 
 }  // namespace
 }  // namespace clearway

@@ -1,5 +1,6 @@
-// Reasons that are true: when no ground is found the reason names the cause, and a scan too sparse
-// to vouch for any cell says so instead of showing green.
+// Reasons that are true: when no ground is found the reason names the cause (a ceiling-only scan,
+// one scan line, a scan without pose, too few points), and a scan too sparse to vouch for any cell
+// says so instead of showing green.
 
 #include <gtest/gtest.h>
 
@@ -59,6 +60,25 @@ TEST(NoGroundReason, ASingleLineSaysSo) {
   EXPECT_FALSE(result.trusted());
   EXPECT_NE(result.reason.find("one scan line"), std::string::npos) << result.reason;
   EXPECT_EQ(result.reason.find("move the robot"), std::string::npos);
+}
+
+TEST(NoGroundReason, AScanWithoutPoseSaysSoAndDoesNotAdviseMovingTheArm) {
+  // The garage as an acquisition without a pose writes it, and estimating the up direction off
+  // (--up none): nothing tells which way is up, and the reason says that, not "move the arm".
+  const auto run = test::simulateAndSegment("garage", 80);
+  Scan bare = run.simulated.scan;
+  bare.sensor_pose.reset();
+  bare.pose_source = PoseSource::kNone;
+  SegmentationParams params;
+  params.ground.estimate_up = 0;
+  const PipelineResult result = runPipeline(bare, params);
+  EXPECT_FALSE(result.trusted());
+  EXPECT_NE(result.analysis.reason.find("no pose"), std::string::npos) << result.analysis.reason;
+  EXPECT_NE(result.analysis.reason.find("--pose"), std::string::npos) << result.analysis.reason;
+  EXPECT_EQ(result.analysis.reason.find("move"), std::string::npos) << result.analysis.reason;
+  EXPECT_EQ(result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
+  // With its pose the same scan finds its ground.
+  EXPECT_TRUE(run.result.trusted()) << run.result.analysis.reason;
 }
 
 TEST(NoGroundReason, TooFewPointsSaysSo) {

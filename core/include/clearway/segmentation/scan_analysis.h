@@ -120,6 +120,8 @@ std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& par
 
 // Internal steps, exposed for tests.
 void selectGround(ScanAnalysis& analysis, const GroundParams& params);
-void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAnalysis& analysis);
+// The robot-independent map inputs of an analysis whose ground is selected (stairs detected).
+MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
+                           const ScanAnalysis& analysis, int threads = 2);
 
 }  // namespace clearway

@@ -2,7 +2,8 @@
 
 // The scanner: choose the device (the simulated RoSi, or the RoSi on two serial ports with its
 // arm and mounting), Connect, Disconnect, Scan (scan-and-stop), Cancel, live progress, the pose
-// the arm reported and the device's state in words. Each device shows only its own fields.
+// the arm reported, the ground-sample density the chosen line count gives, and the device's
+// state in words. Each device shows only its own fields.
 // Every acquisition is saved (atomically) before anything else happens, then handed on.
 
 #include <QWidget>
@@ -26,12 +27,18 @@ class HardwarePanel : public QWidget {
   bool scanning() const;
   // Faster than real time, for demonstrations and tests.
   void setSpeedup(double speedup);
+  // The robot's step, for the density readout (how far from the scanner ground can be green).
+  void setRobotStep(double max_step);
 
  public slots:
   void connectScanner();
   void disconnectScanner();
   void startScan();
   void cancelScan();
+
+ private slots:
+  // Shows the ground-sample density the chosen line count gives (the "groundDensity" label).
+  void showGroundDensity();
 
  signals:
   // A scan was acquired and saved; `complete` is false for the part kept after a cancel or loss.

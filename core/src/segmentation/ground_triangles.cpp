@@ -1,0 +1,369 @@
+// Ground triangles between neighbouring scan lines (docs/ALGORITHM.md, section 5): which lines,
+// or fans within them, lie side by side, how their points pair up, and which triangles join ground.
+
+#include "ground_triangles.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "parallel.h"
+
+namespace clearway::detail {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+// A full turn closes over a gap between neighbouring lines of at most this many line steps, or
+// kLargestSeamGap (lines lost at the start and end of the turn); the density check keeps such a
+// wedge from showing green.
+constexpr double kSeamSteps = 2.5;
+constexpr double kLargestSeamGap = 15.0 * kPi / 180.0;
+
+// Neighbouring lines are paired point by point: same index for organised scans, same relative
+// position along the line for ragged ones.
+std::size_t partner(const ScanLine& from, const ScanLine& to, std::size_t k) {
+  if (from.count == to.count) return to.first + k;
+  const std::size_t scaled = (k * to.count + from.count / 2) / std::max<std::size_t>(from.count, 1);
+  return to.first + std::min(scaled, to.count - 1);
+}
+
+// The angle that runs along each line, per point: elevation along a rotating scanner's fans, seen
+// from `lift` up the turntable axis, azimuth (unwrapped) along a multi-beam ring; ordered along
+// the line. Points without a direction take their predecessor's.
+std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double lift) {
+  std::vector<double> along(scan.size(), 0.0);
+  for (const ScanLine& line : scan.lines) {
+    double previous = 0.0, raw_previous = 0.0;
+    bool started = false;
+    for (std::size_t i = line.first; i < line.first + line.count; ++i) {
+      const Point3f& p = scan.points[i];
+      const double horizontal = std::hypot(double(p.x), double(p.y));
+      if (!scan.isValid(i) || horizontal + std::abs(p.z) <= 1e-6) {
+        along[i] = previous;
+        continue;
+      }
+      if (!multi_beam) {
+        previous = std::atan2(double(p.z) - lift, horizontal);
+      } else {
+        const double raw = std::atan2(double(p.y), double(p.x));
+        previous =
+            started ? previous + std::remainder(raw - raw_previous, 2.0 * std::numbers::pi) : raw;
+        raw_previous = raw;
+      }
+      started = true;
+      along[i] = previous;
+    }
+  }
+  return along;
+}
+
+// A return that dips back (a point a little off its fan, noise at a grazing angle) would stop the
+// walk that pairs the lines (partnersByAngle): the values are made monotone the way the line
+// runs, a dip held level at the value before it.
+void holdDips(std::vector<double>& along, const ScanLine& line) {
+  if (line.count < 2) return;
+  const std::size_t last = line.first + line.count - 1;
+  const double way = along[last] >= along[line.first] ? 1.0 : -1.0;
+  for (std::size_t i = line.first + 1; i <= last; ++i)
+    if (way * (along[i] - along[i - 1]) < 0.0) along[i] = along[i - 1];
+}
+
+// Whether the lines are fans that sweep in elevation, as a turntable's vertical fans do: on the
+// median line, at least this share of the beam steps (along_line_step) is gained in elevation
+// (counting the rises only, so that fans a file ran together count in full). A nodding scanner's
+// tilted fans sweep in azimuth and hardly gain elevation.
+constexpr double kElevationShare = 0.5;
+
+bool sweepInElevation(const Scan& scan, const std::vector<double>& along,
+                      const SensorGeometry& sensor) {
+  if (sensor.kind != SensorKind::kRotating2D || sensor.along_line_step <= 0.0) return false;
+  std::vector<double> shares;
+  for (const ScanLine& line : scan.lines) {
+    if (line.count < 2) continue;
+    double rise = 0.0;
+    for (std::size_t i = line.first + 1; i < line.first + line.count; ++i)
+      rise += std::max(0.0, along[i] - along[i - 1]);
+    shares.push_back(rise / (double(line.count - 1) * sensor.along_line_step));
+  }
+  if (shares.empty()) return false;
+  std::nth_element(shares.begin(), shares.begin() + std::ptrdiff_t(shares.size() / 2),
+                   shares.end());
+  return shares[shares.size() / 2] >= kElevationShare;
+}
+
+// A fan starts again where the elevation along a line drops back by more than this many beam
+// steps: more than noise or a return a little off its fan, less than any fan's sweep.
+constexpr double kFanRestartSteps = 10.0;
+
+// What the ground is triangulated between, side by side: the scan's lines, or, for a rotating
+// scanner, the fans a line holds when its file ran several together (a file whose origin lies on
+// the ground gives its loader no jump in elevation to split them at). Each with the angle that
+// orders them: the line's (sensor.line_angle), or when lines were split, the direction of the
+// fan's points about the turntable axis.
+struct Fans {
+  std::vector<ScanLine> lines;
+  std::vector<double> angles;
+};
+
+Fans fansOf(const Scan& scan, const SensorGeometry& sensor, const std::vector<double>& along) {
+  Fans fans;
+  const bool split =
+      !along.empty() && sensor.kind == SensorKind::kRotating2D && sensor.along_line_step > 0.0;
+  const double restart = kFanRestartSteps * sensor.along_line_step;
+  for (const ScanLine& line : scan.lines) {
+    std::size_t first = line.first;
+    const std::size_t end = line.first + line.count;
+    for (std::size_t i = line.first + 1; split && i < end; ++i)
+      if (along[i] < along[i - 1] - restart) {
+        fans.lines.push_back({first, i - first, line.beta});
+        first = i;
+      }
+    fans.lines.push_back({first, end - first, line.beta});
+  }
+  if (fans.lines.size() == scan.lines.size()) {
+    fans.angles = sensor.line_angle;
+    return fans;
+  }
+  // The direction of the fan's points about the axis, weighted as seen from the scanner (a point
+  // near the zenith hardly counts), from its part below the horizon where it has one: past the
+  // zenith a fan goes on on the other side of the axis.
+  for (const ScanLine& fan : fans.lines) {
+    double sums[2][2] = {{0.0, 0.0}, {0.0, 0.0}};  // [below the horizon or not][x, y]
+    for (std::size_t i = fan.first; i < fan.first + fan.count; ++i) {
+      if (!scan.isValid(i)) continue;
+      const Point3f& p = scan.points[i];
+      const double range = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+      if (range <= 0.0) continue;
+      const int part = along[i] < 0.0 ? 0 : 1;
+      sums[part][0] += p.x / range;
+      sums[part][1] += p.y / range;
+    }
+    const double* sum = sums[0][0] != 0.0 || sums[0][1] != 0.0 ? sums[0] : sums[1];
+    fans.angles.push_back(sum[0] == 0.0 && sum[1] == 0.0 ? std::numeric_limits<double>::quiet_NaN()
+                                                         : std::atan2(sum[1], sum[0]));
+  }
+  return fans;
+}
+
+// For each point of line a, the point of line b nearest in the angle along the line (both run the
+// same way, so one walk over b serves the whole of a).
+void partnersByAngle(const std::vector<double>& along, const ScanLine& a, const ScanLine& b,
+                     std::vector<std::size_t>& partners) {
+  partners.resize(a.count);
+  std::size_t j = b.first;
+  const std::size_t b_end = b.first + b.count;
+  for (std::size_t k = 0; k < a.count; ++k) {
+    const double target = along[a.first + k];
+    while (j + 1 < b_end && std::abs(along[j + 1] - target) <= std::abs(along[j] - target))
+      ++j;
+    partners[k] = j;
+  }
+}
+
+// The lines in the order they lie side by side, and whether the last lies next to the first.
+// A rotating scanner's lines go by their turntable angle, not by the file: a 2D field wider than
+// half a turn writes a fan's two halves 180 deg apart one after the other, and a turntable that
+// overran writes its first lines' neighbours at the end (one pass kept where two overlap: see
+// oneFanPerAngle). Sorted by angle, the order starts after
+// the widest gap between neighbours; it closes over that gap when the gap is no wider than a
+// missing line or two (a full turn: the seam). Multi-beam rings and unknown sensors keep the file
+// order and never close.
+// A turntable that turned more than once around (it overran, or a scan resumed) covers some
+// angles twice, once in each pass; their fans interleave by angle, and a fan of one pass between
+// two of the other (its ground unclassified, or the robot moved) would cut the ground into strips.
+// Passes are runs of fans in file order, broken where the angle jumps (more than kPassBreak) or
+// the run has come once around. Where two passes cover the same angles, the fans of the one with
+// fewer ground points there are left out of the triangulation (their points still count on the
+// map). Returns which fans to keep.
+constexpr double kPassBreak = 15.0 * kPi / 180.0;
+
+std::vector<bool> oneFanPerAngle(const Fans& fans, const std::vector<std::int32_t>& ground_of,
+                                 const SensorGeometry& sensor) {
+  const std::size_t count = fans.lines.size();
+  std::vector<bool> keep(count, true);
+  if (sensor.kind != SensorKind::kRotating2D || fans.angles.size() != count) return keep;
+  struct Pass {
+    std::vector<std::size_t> fans;
+    double start = 0.0, sweep = 0.0;  // first fan's angle, signed angle turned to the last
+  };
+  std::vector<Pass> passes;
+  double previous = 0.0;
+  for (std::size_t f = 0; f < count; ++f) {
+    const double angle = fans.angles[f];
+    if (!std::isfinite(angle)) continue;
+    const double step = passes.empty() ? 0.0 : std::remainder(angle - previous, 2.0 * kPi);
+    if (passes.empty() || std::abs(step) > kPassBreak ||
+        std::abs(passes.back().sweep + step) >= 2.0 * kPi - 0.5 * sensor.between_line_step) {
+      passes.push_back({{f}, angle, 0.0});
+    } else {
+      passes.back().fans.push_back(f);
+      passes.back().sweep += step;
+    }
+    previous = angle;
+  }
+  if (passes.size() < 2) return keep;
+  // Whether an angle lies inside a pass's sweep, half a line step in from its ends.
+  const double margin = 0.5 * sensor.between_line_step;
+  auto inside = [&](const Pass& pass, double angle) {
+    const double way = pass.sweep >= 0.0 ? 1.0 : -1.0;
+    double offset = std::fmod(way * (angle - pass.start), 2.0 * kPi);
+    if (offset < 0.0) offset += 2.0 * kPi;
+    return offset > margin && offset < std::abs(pass.sweep) - margin;
+  };
+  auto groundOf = [&](std::size_t f) {
+    std::size_t ground = 0;
+    for (std::size_t i = fans.lines[f].first; i < fans.lines[f].first + fans.lines[f].count; ++i)
+      ground += ground_of[i] >= 0;
+    return ground;
+  };
+  for (std::size_t a = 0; a < passes.size(); ++a)
+    for (std::size_t b = a + 1; b < passes.size(); ++b) {
+      // The fans of each pass inside the other's sweep, and their ground points.
+      std::vector<std::size_t> a_in_b, b_in_a;
+      std::size_t a_ground = 0, b_ground = 0;
+      for (std::size_t f : passes[a].fans)
+        if (inside(passes[b], fans.angles[f])) {
+          a_in_b.push_back(f);
+          a_ground += groundOf(f);
+        }
+      for (std::size_t f : passes[b].fans)
+        if (inside(passes[a], fans.angles[f])) {
+          b_in_a.push_back(f);
+          b_ground += groundOf(f);
+        }
+      for (std::size_t f : a_ground >= b_ground ? b_in_a : a_in_b)
+        keep[f] = false;
+    }
+  return keep;
+}
+
+struct LineOrder {
+  std::vector<std::size_t> lines;
+  bool closes = false;
+};
+
+LineOrder linesSideBySide(const Fans& fans, const std::vector<bool>& keep,
+                          const SensorGeometry& sensor) {
+  LineOrder order;
+  const std::size_t count = fans.lines.size();
+  if (fans.angles.size() != count || sensor.kind != SensorKind::kRotating2D) {
+    for (std::size_t l = 0; l < count; ++l)
+      order.lines.push_back(l);
+    return order;
+  }
+  for (std::size_t l = 0; l < count; ++l)
+    if (std::isfinite(fans.angles[l]) && keep[l]) order.lines.push_back(l);
+  if (order.lines.size() < 3) return order;
+  auto angle = [&](std::size_t l) { return std::remainder(fans.angles[l], 2.0 * kPi); };
+  std::stable_sort(order.lines.begin(), order.lines.end(),
+                   [&](std::size_t a, std::size_t b) { return angle(a) < angle(b); });
+  std::size_t widest = order.lines.size() - 1;  // the gap after this position (wrap: last)
+  double widest_gap = angle(order.lines.front()) + 2.0 * kPi - angle(order.lines.back());
+  for (std::size_t k = 0; k + 1 < order.lines.size(); ++k) {
+    const double gap = angle(order.lines[k + 1]) - angle(order.lines[k]);
+    if (gap > widest_gap) {
+      widest_gap = gap;
+      widest = k;
+    }
+  }
+  std::rotate(order.lines.begin(), order.lines.begin() + std::ptrdiff_t(widest + 1),
+              order.lines.end());
+  order.closes = widest_gap <= std::max(kSeamSteps * sensor.between_line_step, kLargestSeamGap);
+  return order;
+}
+
+// Triangles whose corners lie on different ground planes join them only if the corners' heights
+// differ by at most this much [m] (half the smallest step a robot is told about).
+constexpr float kLargestSeamStep = 0.05F;
+
+// Elevation angles tell the beams of a fan apart on the ground only from this high above it [m]:
+// a file whose origin lies lower (on the ground) is seen from this high up its turntable axis. A
+// fan's plane holds that axis, so from any point on it above the ground the elevation still grows
+// along the fan: with the range over the ground, then up what the fan hit.
+constexpr double kElevationHeight = 0.5;
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> groundTriangles(
+    const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
+    const SensorGeometry& sensor, double scanner_height, int threads) {
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  auto close = [&](std::size_t a, std::size_t b, double max_edge_squared) {
+    const Point3f& p = scan.points[a];
+    const Point3f& q = scan.points[b];
+    const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
+    return dx * dx + dy * dy + dz * dz <= max_edge_squared;
+  };
+  auto add = [&](std::vector<std::array<std::uint32_t, 3>>& out, std::size_t a, std::size_t b,
+                 std::size_t c) {
+    const std::int32_t g = ground_of[a];
+    if (g < 0 || ground_of[b] < 0 || ground_of[c] < 0) return;
+    // Ground of two planes joins only where the two meet without a step: the outdoor ground is
+    // several planes that touch (a paving's slight bends), a stair's treads are not.
+    if (ground_of[b] != g || ground_of[c] != g) {
+      const float za = limit.mapped[a].z(), zb = limit.mapped[b].z(), zc = limit.mapped[c].z();
+      if (std::max({za, zb, zc}) - std::min({za, zb, zc}) > kLargestSeamStep) return;
+    }
+    const double max_edge_squared = limit.maxEdgeSquared(a);
+    if (!close(a, b, max_edge_squared) || !close(b, c, max_edge_squared) ||
+        !close(a, c, max_edge_squared))
+      return;
+    out.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+  };
+  // Ragged lines (sky and no-returns dropped, rings of different lengths) are paired by the angle
+  // along the line, not by index (a line with a few more returns up a tree would shift the pairing
+  // of all its ground): the azimuth along a ring; the elevation along a fan, seen from at least
+  // kElevationHeight above the ground (from the file's origin, every ground point of a file whose
+  // origin lies on the ground has an elevation near zero).
+  // Lines that sweep in azimuth instead (a nodding scanner's tilted fans) keep what served them:
+  // the elevation from the file's origin when it lies high enough, else the relative index.
+  const bool multi_beam = sensor.kind == SensorKind::kMultiBeam;
+  const bool by_angle = !scan.isOrganised();
+  const double lift = std::max(0.0, kElevationHeight - scanner_height);
+  std::vector<double> along =
+      by_angle ? angleAlongLines(scan, multi_beam, lift) : std::vector<double>{};
+  const bool elevation_fans =
+      !along.empty() && !multi_beam && sweepInElevation(scan, along, sensor);
+  if (!along.empty() && !multi_beam && !elevation_fans)
+    along = scanner_height >= kElevationHeight ? angleAlongLines(scan, false, 0.0)
+                                               : std::vector<double>{};
+  const Fans fans = fansOf(scan, sensor, elevation_fans ? along : std::vector<double>{});
+  if (elevation_fans)
+    for (const ScanLine& fan : fans.lines)
+      holdDips(along, fan);
+  // Lines side by side: in the order of their angle (file order when the sensor's geometry is
+  // unknown); a full turn closes on itself, its last line next to its first.
+  const LineOrder side_by_side =
+      linesSideBySide(fans, oneFanPerAngle(fans, ground_of, sensor), sensor);
+  const std::vector<std::size_t>& order = side_by_side.lines;
+  const std::size_t lines = order.size();
+  const bool revolution = lines > 2 && side_by_side.closes;
+  const std::size_t pairs = lines == 0 ? 0 : lines - 1 + (revolution ? 1 : 0);
+  const std::size_t chunks = std::size_t(std::max(threads, 1));
+  std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
+  detail::parallelChunks(pairs, threads,
+                         [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+                           std::vector<std::size_t> partners;
+                           for (std::size_t l = begin; l < end; ++l) {
+                             const ScanLine& a = fans.lines[order[l]];
+                             const ScanLine& b = fans.lines[order[(l + 1) % lines]];
+                             if (a.count == 0 || b.count == 0) continue;
+                             if (!along.empty()) partnersByAngle(along, a, b, partners);
+                             auto partnerOf = [&](std::size_t k) {
+                               return along.empty() ? partner(a, b, k) : partners[k];
+                             };
+                             for (std::size_t k = 0; k + 1 < a.count; ++k) {
+                               const std::size_t a0 = a.first + k, a1 = a0 + 1;
+                               const std::size_t b0 = partnerOf(k), b1 = partnerOf(k + 1);
+                               add(parts[chunk], a0, a1, b0);
+                               if (b1 != b0) add(parts[chunk], a1, b1, b0);
+                             }
+                           }
+                         });
+  for (const auto& part : parts)
+    triangles.insert(triangles.end(), part.begin(), part.end());
+  return triangles;
+}
+
+}  // namespace clearway::detail

@@ -1,0 +1,49 @@
+#pragma once
+
+// Ground triangles between neighbouring scan lines whose three corners are ground of the same
+// plane (or of planes meeting without a step) and close together: they cover sampling gaps but
+// cannot bridge a shadow, because inside a shadow the neighbouring beam hit the obstacle, not the
+// ground (docs/ALGORITHM.md, section 5).
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "clearway/scan.h"
+#include "clearway/sensor_geometry.h"
+
+namespace clearway::detail {
+
+// The longest triangle edge allowed near a point: the fixed limit, or where the scan is sparser
+// (far ground), a few times the spacing the sensor's angular steps give at that range. Whether an
+// obstacle could hide in such a triangle is the density check's question (cell_classes.cpp).
+struct EdgeLimit {
+  const std::vector<Eigen::Vector3f>& mapped;
+  const SensorGeometry& sensor;
+  double fixed = 1.0;
+  double scanner_height = 1.0;
+  double maxEdgeSquared(std::size_t point) const {
+    const double range = double(mapped[point].head<2>().norm());
+    const double spacing = expectedGroundSpacing(sensor, range, scanner_height);
+    const double edge = std::max(fixed, kSpacingsPerEdge * std::min(spacing, kLongestEdge));
+    return edge * edge;
+  }
+  // Two samples' worth of slack: a beam lost between neighbours still closes the triangle.
+  static constexpr double kSpacingsPerEdge = 2.0;
+  // However sparse the scan, no triangle edge is longer than this [m].
+  static constexpr double kLongestEdge = 5.0;
+};
+
+// A scanner "at ground level" (files whose origin is on the floor) still sees the ground at a
+// grazing angle; its spacing is worked out for at least this height [m].
+inline constexpr double kLowestScannerHeight = 0.3;
+
+// The triangles (scan point indices) over the ground points (`ground_of`: plane per point, -1 not
+// ground), the scanner `scanner_height` above the map's ground.
+std::vector<std::array<std::uint32_t, 3>> groundTriangles(
+    const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
+    const SensorGeometry& sensor, double scanner_height, int threads);
+
+}  // namespace clearway::detail
