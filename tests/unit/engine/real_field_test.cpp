@@ -318,7 +318,7 @@ TEST(GroundLevelOrigin, FansRunTogetherInTheFileStillJoinTheirFloor) {
   scan.sensor_pose = SensorPose{};
   scan.pose_source = PoseSource::kFile;
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.analysis->reason;
   const TraversabilityMap& map = result.map;
   std::size_t annulus = 0, unobserved = 0;
   for (int row = 0; row < map.grid.height; ++row)

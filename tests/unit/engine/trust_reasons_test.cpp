@@ -73,12 +73,12 @@ TEST(NoGroundReason, AScanWithoutPoseSaysSoAndDoesNotAdviseMovingTheArm) {
   params.ground.estimate_up = 0;
   const PipelineResult result = runPipeline(bare, params);
   EXPECT_FALSE(result.trusted());
-  EXPECT_NE(result.analysis.reason.find("no pose"), std::string::npos) << result.analysis.reason;
-  EXPECT_NE(result.analysis.reason.find("--pose"), std::string::npos) << result.analysis.reason;
-  EXPECT_EQ(result.analysis.reason.find("move"), std::string::npos) << result.analysis.reason;
+  EXPECT_NE(result.analysis->reason.find("no pose"), std::string::npos) << result.analysis->reason;
+  EXPECT_NE(result.analysis->reason.find("--pose"), std::string::npos) << result.analysis->reason;
+  EXPECT_EQ(result.analysis->reason.find("move"), std::string::npos) << result.analysis->reason;
   EXPECT_EQ(result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
   // With its pose the same scan finds its ground.
-  EXPECT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  EXPECT_TRUE(run.result.trusted()) << run.result.analysis->reason;
 }
 
 TEST(NoGroundReason, TooFewPointsSaysSo) {
