@@ -232,4 +232,17 @@ double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& p
   return std::max(across, within);
 }
 
+double vouchedRange(const SensorGeometry& sensor, double height, double largest_hidden,
+                    double limit) {
+  // Walked outwards in steps of this much [m]: finer than any robot, coarse enough to be cheap.
+  constexpr double kRangeStep = 0.1;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  for (double range = kRangeStep; range <= limit; range += kRangeStep) {
+    const Eigen::Vector3d ground(range, 0.0, -height);
+    if (!(hiddenObstacleSize(sensor, ground, up, height) <= largest_hidden))
+      return range - kRangeStep;
+  }
+  return limit;
+}
+
 }  // namespace clearway

@@ -183,6 +183,15 @@ std::vector<Plane> clusterSegments(const std::vector<LineSegment>& segments, std
       continue;
     }
     Plane final_plane = fitPlane(moments);
+    // A region that grew along parallel segments before they spanned a plane (the rings of a
+    // multi-beam sensor are parallel for many metres) can take in segments no plane holds: its
+    // points scatter about the fit more than a segment may lie off a plane to join it.
+    const double mean_range = final_plane.moments.mean().norm();
+    if (final_plane.rms > params.plane_distance + params.plane_distance_per_metre * mean_range) {
+      for (std::uint32_t s : region)
+        owner[s] = -1;
+      continue;
+    }
     final_plane.segments = std::move(region);
     planes.push_back(std::move(final_plane));
   }

@@ -1,7 +1,9 @@
 #include "clearway/segmentation/scan_analysis.h"
 
+#include <algorithm>
 #include <chrono>
 
+#include "../traversability/cell_classes.h"
 #include "clearway/segmentation/up_estimation.h"
 
 namespace clearway {
@@ -18,6 +20,10 @@ constexpr double kRingGrowthGap = 2.0;
 // camber and slope changes spread the support over more than the flat band: it widens by this
 // much per metre (0.15 m at 20 m), so the road is supported as a real plane is, crowding inside.
 constexpr double kRingSupportPerMetre = 0.005;
+
+// The map reaches this far beyond the vouched range, so the robot's box can stand on its last
+// vouched cells in every orientation (half the diagonal of the largest robot the console offers).
+constexpr double kVouchedRangeMargin = 2.0;
 
 class StageClock {
  public:
@@ -72,6 +78,8 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   SensorSpread spread;
   spread.growth_gap = multi_beam ? kRingGrowthGap : kLineGrowthGap;
   spread.support_per_metre = multi_beam ? kRingSupportPerMetre : 0.0;
+  spread.local_crowding = multi_beam;
+  spread.own_segments = multi_beam ? &analysis.segments : nullptr;
   analysis.planes = validatePlanes(scan, std::move(candidates), params.validation, threads, spread);
   clock.stop("validation");
   reportProgress(progress, 0.8);
@@ -109,6 +117,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
                             : estimate.reason;
     }
   }
+  if (multi_beam) absorbGroundPatches(scan, params.validation, spread, analysis);
   clock.stop("ground");
   reportProgress(progress, 0.85);
 
@@ -116,7 +125,21 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
     analysis.stairs.staircases = detectStairs(scan, analysis.map_from_scanner, params.stairs);
   clock.stop("stairs");
 
-  prepareMapInputs(scan, params, analysis);
+  if (multi_beam && analysis.ground_found) {
+    // A multi-beam frame reaches 80 m and more, but its rings vouch for the ground only out to
+    // where an obstacle taller than the robot's step could no longer hide between them: farther
+    // cells could only ever be "too sparse". The map stops there (plus the margin the box needs).
+    SegmentationParams map_params = params;
+    const double height = analysis.map_from_scanner.translation().z();
+    map_params.map.max_extent = std::min(
+        params.map.max_extent,
+        vouchedRange(analysis.sensor, height, detail::kSpacingPerStep * params.robot.max_step,
+                     params.map.max_extent) +
+            kVouchedRangeMargin);
+    prepareMapInputs(scan, map_params, analysis);
+  } else {
+    prepareMapInputs(scan, params, analysis);
+  }
   analysis.stairs.cell_staircase = staircaseCells(analysis.stairs.staircases, analysis.inputs.grid);
   clock.stop("map_inputs");
   reportProgress(progress, 1.0);

@@ -120,6 +120,12 @@ std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& par
 
 // Internal steps, exposed for tests.
 void selectGround(ScanAnalysis& analysis, const GroundParams& params);
+// Multi-beam frames: a ground plane whose own points lie mostly on the reference ground (within its
+// support band and area) is a patch of that ground fitted from a few rings, tilted by their noise:
+// its points on the reference go to the reference, the rest (where the tilt carried it into cars
+// and kerbs) to no plane, and it stops being ground. Returns how many planes were absorbed.
+std::size_t absorbGroundPatches(const Scan& scan, const ValidationParams& validation,
+                                const SensorSpread& spread, ScanAnalysis& analysis);
 void prepareMapInputs(const Scan& scan, const SegmentationParams& params, ScanAnalysis& analysis);
 
 }  // namespace clearway
