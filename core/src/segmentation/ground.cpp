@@ -153,4 +153,53 @@ std::size_t absorbGroundPatches(const Scan& scan, const ValidationParams& valida
   return count;
 }
 
+std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_width,
+                                  ScanAnalysis& analysis) {
+  if (!analysis.ground_found || analysis.ground_planes.size() < 2) return 0;
+  const std::vector<Plane>& planes = analysis.planes.planes;
+  // Whether `from`'s own points come within a riser of `to`, over `to`'s area, along at least
+  // min_width of its lines (consecutive such points, summed over its segments).
+  auto reaches = [&](int from, int to) {
+    const Plane& target = planes[std::size_t(to)];
+    const SupportImage& area = analysis.planes.supports[std::size_t(to)];
+    double seam = 0.0;
+    for (const std::uint32_t s : planes[std::size_t(from)].segments) {
+      const LineSegment& segment = analysis.segments[s];
+      bool previous_meets = false;
+      Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+      for (std::size_t i = segment.first; i <= segment.last; ++i) {
+        if (!scan.isValid(i)) continue;
+        const Point3f& p = scan.points[i];
+        const Eigen::Vector3d q(p.x, p.y, p.z);
+        const bool meets = std::abs(target.signedDistance(q)) <= max_rise && area.contains(q);
+        if (meets && previous_meets) seam += (q - previous).norm();
+        if (seam >= min_width) return true;
+        previous_meets = meets;
+        previous = q;
+      }
+    }
+    return false;
+  };
+  std::vector<int> kept = {analysis.reference_ground};
+  std::vector<int> waiting(analysis.ground_planes.begin() + 1, analysis.ground_planes.end());
+  for (std::size_t next = 0; next < kept.size(); ++next) {
+    const int from = kept[next];
+    std::erase_if(waiting, [&](int g) {
+      if (!reaches(g, from)) return false;
+      kept.push_back(g);
+      return true;
+    });
+  }
+  if (waiting.empty()) return 0;
+  std::vector<bool> dropped(planes.size(), false);
+  for (const int g : waiting) {
+    dropped[std::size_t(g)] = true;
+    analysis.planes.planes[std::size_t(g)].kind = PlaneKind::kOther;
+  }
+  for (std::int32_t& plane : analysis.planes.point_plane)
+    if (plane >= 0 && dropped[std::size_t(plane)]) plane = -1;
+  std::erase_if(analysis.ground_planes, [&](int g) { return dropped[std::size_t(g)]; });
+  return waiting.size();
+}
+
 }  // namespace clearway

@@ -117,7 +117,10 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
                             : estimate.reason;
     }
   }
-  if (multi_beam) absorbGroundPatches(scan, params.validation, spread, analysis);
+  if (multi_beam) {
+    absorbGroundPatches(scan, params.validation, spread, analysis);
+    dropUnreachableGround(scan, params.robot.max_step, params.robot.width, analysis);
+  }
   clock.stop("ground");
   reportProgress(progress, 0.85);
 
