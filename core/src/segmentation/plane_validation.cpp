@@ -141,6 +141,33 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
     v_max = std::max(v_max, uv.back().y());
   }
   const double max_side = std::sqrt(double(params.max_image_cells)) * params.cell_size / 2.0;
+  // Kept near its own segments, the plane's image needs to cover only them and the growth gap
+  // around them (a wall's band crosses the whole frame; its own rings span a few metres).
+  std::vector<Eigen::Vector2d> own_uv;
+  if (segments) {
+    double own_u_min = 1e300, own_u_max = -1e300, own_v_min = 1e300, own_v_max = -1e300;
+    for (const std::uint32_t s : plane.segments) {
+      const LineSegment& segment = (*segments)[s];
+      for (std::size_t i = segment.first; i <= segment.last; ++i) {
+        if (!scan.isValid(i)) continue;
+        const Point3f& p = scan.points[i];
+        const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - centre;
+        own_uv.emplace_back(q.dot(image.u_axis), q.dot(image.v_axis));
+        own_u_min = std::min(own_u_min, own_uv.back().x());
+        own_u_max = std::max(own_u_max, own_uv.back().x());
+        own_v_min = std::min(own_v_min, own_uv.back().y());
+        own_v_max = std::max(own_v_max, own_uv.back().y());
+      }
+    }
+    u_min = std::max(u_min, own_u_min - growth_gap);
+    v_min = std::max(v_min, own_v_min - growth_gap);
+    u_max = std::min(u_max, own_u_max + growth_gap);
+    v_max = std::min(v_max, own_v_max + growth_gap);
+    if (u_min > u_max || v_min > v_max) {  // no support near its own segments
+      u_max = u_min;
+      v_max = v_min;
+    }
+  }
   u_min = std::max(u_min, -max_side);
   v_min = std::max(v_min, -max_side);
   u_max = std::min(u_max, max_side);
@@ -213,15 +240,9 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
     // The plane is known only near the points it was fitted to: its area stays within the growth
     // gap of its own segments.
     cv::Mat own(image.height, image.width, CV_8UC1, cv::Scalar(0));
-    for (const std::uint32_t s : plane.segments) {
-      const LineSegment& segment = (*segments)[s];
-      for (std::size_t i = segment.first; i <= segment.last; ++i) {
-        if (!scan.isValid(i)) continue;
-        const Point3f& p = scan.points[i];
-        const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - centre;
-        const int cell = cellOf({q.dot(image.u_axis), q.dot(image.v_axis)});
-        if (cell >= 0) own.at<std::uint8_t>(cell / image.width, cell % image.width) = 255;
-      }
+    for (const Eigen::Vector2d& q : own_uv) {
+      const int cell = cellOf(q);
+      if (cell >= 0) own.at<std::uint8_t>(cell / image.width, cell % image.width) = 255;
     }
     cv::dilate(own, own,
                cv::getStructuringElement(cv::MORPH_ELLIPSE,
