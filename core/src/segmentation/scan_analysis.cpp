@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "../traversability/cell_classes.h"
 #include "clearway/segmentation/up_estimation.h"
@@ -20,10 +21,6 @@ constexpr double kRingGrowthGap = 2.0;
 // camber and slope changes spread the support over more than the flat band: it widens by this
 // much per metre (0.15 m at 20 m), so the road is supported as a real plane is, crowding inside.
 constexpr double kRingSupportPerMetre = 0.005;
-
-// The map reaches this far beyond the vouched range, so the robot's box can stand on its last
-// vouched cells in every orientation (half the diagonal of the largest robot the console offers).
-constexpr double kVouchedRangeMargin = 2.0;
 
 class StageClock {
  public:
@@ -131,14 +128,16 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   if (multi_beam && analysis.ground_found) {
     // A multi-beam frame reaches 80 m and more, but its rings vouch for the ground only out to
     // where an obstacle taller than the robot's step could no longer hide between them: farther
-    // cells could only ever be "too sparse". The map stops there (plus the margin the box needs).
+    // cells could only ever be "too sparse". The map stops there, plus the robot's circumscribed
+    // radius so that its box can stand on the last vouched cells in every orientation.
     SegmentationParams map_params = params;
     const double height = analysis.map_from_scanner.translation().z();
+    const double box_radius = std::hypot(params.robot.width, params.robot.length) / 2;
     map_params.map.max_extent = std::min(
         params.map.max_extent,
         vouchedRange(analysis.sensor, height, detail::kSpacingPerStep * params.robot.max_step,
                      params.map.max_extent) +
-            kVouchedRangeMargin);
+            box_radius);
     prepareMapInputs(scan, map_params, analysis);
   } else {
     prepareMapInputs(scan, params, analysis);
