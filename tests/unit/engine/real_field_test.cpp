@@ -164,6 +164,38 @@ TEST_P(KittiFrame, LittleAboveTheRoadIsGround) {
   EXPECT_LT(measureRoad(scan, result, fitRoad(scan)).falseRate(), 0.01);
 }
 
+// The map of a multi-beam frame stops where its rings can no longer vouch for the ground (plus the
+// robot's circumscribed radius), not at map.max_extent: beyond it no cell could be green.
+TEST_P(KittiFrame, TheMapStopsWhereTheRingsVouchForTheGround) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("kitti/") + GetParam());
+  const Scan scan = loadScan(file);
+  const SegmentationParams params;
+  const PipelineResult result = runPipeline(scan, params);
+  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  const double height = result.analysis.map_from_scanner.translation().z();
+  const double largest_hidden = 2 * params.robot.max_step;  // cell_classes.h, kSpacingPerStep
+  const double range =
+      vouchedRange(result.analysis.sensor, height, largest_hidden, params.map.max_extent);
+  // The vouched range is where the hidden-obstacle bound crosses twice the step: the HDL-64E's
+  // 0.41 deg ring step gives about 14 m.
+  auto hidden = [&](double r) {
+    return hiddenObstacleSize(result.analysis.sensor, Eigen::Vector3d(r, 0.0, -height),
+                              Eigen::Vector3d::UnitZ(), height);
+  };
+  EXPECT_LE(hidden(range), largest_hidden);
+  EXPECT_GT(hidden(range + 0.2), largest_hidden);
+  EXPECT_LT(range, params.map.max_extent / 2);
+  const MapGrid& grid = result.map.grid;
+  const double reach = range + std::hypot(params.robot.width, params.robot.length) / 2 + 0.25 +
+                       2 * grid.resolution;  // the map's rim and rounding
+  EXPECT_GE(grid.origin.x(), -reach);
+  EXPECT_GE(grid.origin.y(), -reach);
+  EXPECT_LE(grid.origin.x() + grid.width * grid.resolution, reach);
+  EXPECT_LE(grid.origin.y() + grid.height * grid.resolution, reach);
+  std::cout << "[ figures  ] vouched range " << range << " m, map " << grid.width << " x "
+            << grid.height << " cells\n";
+}
+
 // `info` names the sensor and its rings.
 TEST_P(KittiFrame, InfoSaysMultiBeamAndItsRings) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("kitti/") + GetParam());
