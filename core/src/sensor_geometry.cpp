@@ -212,11 +212,15 @@ double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& p
   // sample by d(hit)/d(angle) x step. Its part along the beam's horizontal direction is protected
   // by the farther beam (worth 2 x range x step); its part sideways is not.
   const Eigen::Vector3d u = point / range;
-  const double elevation = std::asin(std::clamp(u.z(), -1.0, 1.0));
-  const double azimuth = std::atan2(u.y(), u.x());
-  const Eigen::Vector3d du(-std::sin(elevation) * std::cos(azimuth),
-                           -std::sin(elevation) * std::sin(azimuth), std::cos(elevation));
-  const double facing = up.dot(u);  // negative: the beam goes down to the ground
+  // The beam's direction turned up by its elevation step: d(u)/d(elevation) =
+  // (-sin e cos a, -sin e sin a, cos e), with cos e the horizontal part of u and (cos a, sin a) its
+  // horizontal direction (no trigonometry: this runs for every ground cell).
+  const double horizontal = u.head<2>().norm();
+  const Eigen::Vector3d du =
+      horizontal > 1e-12
+          ? Eigen::Vector3d(-u.z() * u.x() / horizontal, -u.z() * u.y() / horizontal, horizontal)
+          : Eigen::Vector3d(-u.z(), 0.0, 0.0);  // straight up or down: azimuth 0
+  const double facing = up.dot(u);              // negative: the beam goes down to the ground
   const double drop = std::max(height, kLowestBeamHeight);
   if (facing > -1e-3) return std::numeric_limits<double>::infinity();  // grazing or upward
   const double t = -drop / facing;
@@ -230,6 +234,19 @@ double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& p
   const double sideways = (move - move.dot(beam) * beam).norm();
   const double within = std::max(sideways, std::min(radial, 2.0 * range * within_step));
   return std::max(across, within);
+}
+
+double vouchedRange(const SensorGeometry& sensor, double height, double largest_hidden,
+                    double limit) {
+  // Walked outwards in steps of this much [m]: finer than any robot, coarse enough to be cheap.
+  constexpr double kRangeStep = 0.1;
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  for (double range = kRangeStep; range <= limit; range += kRangeStep) {
+    const Eigen::Vector3d ground(range, 0.0, -height);
+    if (!(hiddenObstacleSize(sensor, ground, up, height) <= largest_hidden))
+      return range - kRangeStep;
+  }
+  return limit;
 }
 
 }  // namespace clearway

@@ -61,4 +61,12 @@ double expectedGroundSpacing(const SensorGeometry& sensor, double range, double 
 double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point,
                           const Eigen::Vector3d& up, double height);
 
+// The farthest horizontal distance from the sensor, up to `limit`, out to which flat ground
+// `height` below it is sampled densely enough that no obstacle wider than `largest_hidden` can hide
+// (hiddenObstacleSize() <= largest_hidden all the way out) [m]. Farther ground can never be vouched
+// for; a multi-beam frame's map stops there (docs/ALGORITHM.md, "Multi-beam frames"). `limit` for
+// an unknown sensor.
+double vouchedRange(const SensorGeometry& sensor, double height, double largest_hidden,
+                    double limit);
+
 }  // namespace clearway

@@ -178,6 +178,9 @@ Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options)
   }
   scan.metadata.format = "kitti bin";
   scan.metadata.frame = "as stored: metres, x forward, z up";
+  // The format's frame is the Velodyne's on the car, z up by KITTI's definition (the car stands on
+  // the road it scans): that is the frame's pose, as a 3DTK .pose file gives one.
+  scan.sensor_pose = SensorPose{};
   return scan;
 }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include "clearway/segmentation/scan_analysis.h"
 
@@ -105,6 +106,100 @@ void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
     const double d = p.offset + n.dot(analysis.map_from_scanner.translation());
     analysis.height_coefficients[k] = Eigen::Vector3d(d, -n.x(), -n.y()) / n.z();
   }
+}
+
+std::size_t absorbGroundPatches(const Scan& scan, const ValidationParams& validation,
+                                const SensorSpread& spread, ScanAnalysis& analysis) {
+  if (!analysis.ground_found || analysis.ground_planes.size() < 2) return 0;
+  const int reference = analysis.reference_ground;
+  const Plane& reference_plane = analysis.planes.planes[std::size_t(reference)];
+  const SupportImage& reference_area = analysis.planes.supports[std::size_t(reference)];
+  std::vector<std::int32_t>& point_plane = analysis.planes.point_plane;
+  std::vector<bool> is_other_ground(analysis.planes.planes.size(), false);
+  for (const int g : analysis.ground_planes)
+    is_other_ground[std::size_t(g)] = g != reference;
+  // Per point of another ground plane: does the reference support it (band and area)?
+  auto onReference = [&](std::size_t i) {
+    const Point3f& p = scan.points[i];
+    const Eigen::Vector3d q(p.x, p.y, p.z);
+    const double band = validation.support_distance + spread.support_per_metre * q.norm();
+    return std::abs(reference_plane.signedDistance(q)) <= band && reference_area.contains(q);
+  };
+  // Judged on the plane's own segments, the points it was fitted to (not the support it claims).
+  std::vector<bool> absorbed(analysis.planes.planes.size(), false);
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < absorbed.size(); ++k) {
+    if (!is_other_ground[k]) continue;
+    std::size_t points = 0, on_reference = 0;
+    for (const std::uint32_t s : analysis.planes.planes[k].segments) {
+      const LineSegment& segment = analysis.segments[s];
+      for (std::size_t i = segment.first; i <= segment.last; ++i) {
+        if (!scan.isValid(i)) continue;
+        ++points;
+        on_reference += onReference(i);
+      }
+    }
+    absorbed[k] = 2 * on_reference > points;
+    if (!absorbed[k]) continue;
+    analysis.planes.planes[k].kind = PlaneKind::kOther;
+    ++count;
+  }
+  if (count == 0) return 0;
+  for (std::size_t i = 0; i < point_plane.size(); ++i) {
+    const int k = point_plane[i];
+    if (k >= 0 && absorbed[std::size_t(k)]) point_plane[i] = onReference(i) ? reference : -1;
+  }
+  std::erase_if(analysis.ground_planes, [&](int g) { return absorbed[std::size_t(g)]; });
+  return count;
+}
+
+std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_width,
+                                  ScanAnalysis& analysis) {
+  if (!analysis.ground_found || analysis.ground_planes.size() < 2) return 0;
+  const std::vector<Plane>& planes = analysis.planes.planes;
+  // Whether `from`'s own points come within a riser of `to`, over `to`'s area, along at least
+  // min_width of its lines (consecutive such points, summed over its segments).
+  auto reaches = [&](int from, int to) {
+    const Plane& target = planes[std::size_t(to)];
+    const SupportImage& area = analysis.planes.supports[std::size_t(to)];
+    double seam = 0.0;
+    for (const std::uint32_t s : planes[std::size_t(from)].segments) {
+      const LineSegment& segment = analysis.segments[s];
+      bool previous_meets = false;
+      Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+      for (std::size_t i = segment.first; i <= segment.last; ++i) {
+        if (!scan.isValid(i)) continue;
+        const Point3f& p = scan.points[i];
+        const Eigen::Vector3d q(p.x, p.y, p.z);
+        const bool meets = std::abs(target.signedDistance(q)) <= max_rise && area.contains(q);
+        if (meets && previous_meets) seam += (q - previous).norm();
+        if (seam >= min_width) return true;
+        previous_meets = meets;
+        previous = q;
+      }
+    }
+    return false;
+  };
+  std::vector<int> kept = {analysis.reference_ground};
+  std::vector<int> waiting(analysis.ground_planes.begin() + 1, analysis.ground_planes.end());
+  for (std::size_t next = 0; next < kept.size(); ++next) {
+    const int from = kept[next];
+    std::erase_if(waiting, [&](int g) {
+      if (!reaches(g, from)) return false;
+      kept.push_back(g);
+      return true;
+    });
+  }
+  if (waiting.empty()) return 0;
+  std::vector<bool> dropped(planes.size(), false);
+  for (const int g : waiting) {
+    dropped[std::size_t(g)] = true;
+    analysis.planes.planes[std::size_t(g)].kind = PlaneKind::kOther;
+  }
+  for (std::int32_t& plane : analysis.planes.point_plane)
+    if (plane >= 0 && dropped[std::size_t(plane)]) plane = -1;
+  std::erase_if(analysis.ground_planes, [&](int g) { return dropped[std::size_t(g)]; });
+  return waiting.size();
 }
 
 }  // namespace clearway

@@ -3,7 +3,6 @@
 // above the local ground, and where ground planes meet.
 
 #include <Eigen/Geometry>
-#include <Eigen/QR>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -190,14 +189,18 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
               cell_of[triangle[0]].cwiseMax(cell_of[triangle[1]]).cwiseMax(cell_of[triangle[2]]);
           // Scanline fill: per row, the triangle's x-interval at the row's centre line.
           const Eigen::Vector2d corners[3] = {a, b, c};
-          // The triangle's height over the map: z = h0 + hx x + hy y through its corners.
-          Eigen::Matrix3d system;
-          Eigen::Vector3d heights;
-          for (int e = 0; e < 3; ++e) {
-            system.row(e) << 1.0, corners[e].x(), corners[e].y();
-            heights[e] = mapped[triangle[std::size_t(e)]].z();
+          // The triangle's height over the map: z = h0 + hx x + hy y through its corners, from
+          // its normal (closed form: a QR solve per triangle was a tenth of a multi-beam frame's
+          // time). A triangle flat in x-y covers no cell centre; it keeps its first corner's z.
+          const Eigen::Vector3d p0 = mapped[triangle[0]].cast<double>();
+          const Eigen::Vector3d normal = (mapped[triangle[1]].cast<double>() - p0)
+                                             .cross(mapped[triangle[2]].cast<double>() - p0);
+          Eigen::Vector3d h(p0.z(), 0.0, 0.0);
+          if (std::abs(normal.z()) > 1e-12) {
+            h[1] = -normal.x() / normal.z();
+            h[2] = -normal.y() / normal.z();
+            h[0] = p0.z() - h[1] * p0.x() - h[2] * p0.y();
           }
-          const Eigen::Vector3d h = system.colPivHouseholderQr().solve(heights);
           for (int row = std::max(low.y(), int(row_begin));
                row <= std::min(high.y(), int(row_end) - 1); ++row) {
             const double y = grid.origin.y() + (row + 0.5) * grid.resolution;

@@ -70,7 +70,13 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
         const double range = std::min(a.range, b.range);
         const double allowed =
             params.max_distance + params.distance_per_metre * range + ringGap(a, b, around, step);
-        if (segmentDistance(a, b) > allowed) continue;
+        // The segments lie at least this far apart (their midpoints' distance less their half
+        // lengths, less a float's rounding): most pairs of a ring's neighbours are ruled out
+        // without the exact distance.
+        constexpr float kRounding = 1e-4F;  // [m]
+        const float apart = (a.start + a.end - b.start - b.end).norm() / 2 -
+                            (a.length() + b.length()) / 2 - kRounding;
+        if (apart > allowed || segmentDistance(a, b) > allowed) continue;
         neighbours[i].push_back(std::uint32_t(j));
         neighbours[j].push_back(std::uint32_t(i));
       }
@@ -82,8 +88,9 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
 // True once the region's points span a plane rather than a line.
 bool spansPlane(const PointMoments& moments) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver;
-  solver.computeDirect(
-      moments.covariance());  // closed form for 3 x 3: much faster than the iterative solver
+  // Closed form for 3 x 3, eigenvalues only: this runs each time a segment joins a region that
+  // does not span a plane yet (a multi-beam ring's segments stay parallel for metres).
+  solver.computeDirect(moments.covariance(), Eigen::EigenvaluesOnly);
   const Eigen::Vector3d lambda = solver.eigenvalues();
   return lambda[1] > 1e-4 && lambda[0] < 0.05 * lambda[1];
 }
@@ -183,6 +190,15 @@ std::vector<Plane> clusterSegments(const std::vector<LineSegment>& segments, std
       continue;
     }
     Plane final_plane = fitPlane(moments);
+    // A region that grew along parallel segments before they spanned a plane (the rings of a
+    // multi-beam sensor are parallel for many metres) can take in segments no plane holds: its
+    // points scatter about the fit more than a segment may lie off a plane to join it.
+    const double mean_range = final_plane.moments.mean().norm();
+    if (final_plane.rms > params.plane_distance + params.plane_distance_per_metre * mean_range) {
+      for (std::uint32_t s : region)
+        owner[s] = -1;
+      continue;
+    }
     final_plane.segments = std::move(region);
     planes.push_back(std::move(final_plane));
   }

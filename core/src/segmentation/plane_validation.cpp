@@ -82,10 +82,47 @@ std::vector<std::uint32_t> supportingPoints(const Scan& scan, const std::vector<
   return support;
 }
 
-// Builds the support image and returns the area of its largest connected supported region.
+// The crowding of a plane's support about the local surface: each point's distance to the plane
+// less the mean distance of its support cell's points, against the inner half of its band. Only
+// cells with at least min_cell_points points count (a lone point has no spread to judge). A real
+// surface that bends away from the plane (a road's camber, a kerb's level) stays crowded; a phantom
+// cutting real surfaces at an angle spreads over the band within every cell.
+template <typename CellOf>
+double crowdingAboutCells(const Scan& scan, const Plane& plane,
+                          const std::vector<std::uint32_t>& support,
+                          const std::vector<Eigen::Vector2d>& uv, const CellOf& cellOf,
+                          const cv::Mat& counts, const ValidationParams& params, double per_metre) {
+  std::vector<float> sum(std::size_t(counts.rows) * std::size_t(counts.cols), 0.0F);
+  std::vector<float> distance(support.size());
+  std::vector<int> cell_of(support.size());
+  for (std::size_t k = 0; k < support.size(); ++k) {
+    const Point3f& p = scan.points[support[k]];
+    distance[k] = float(plane.signedDistance(Eigen::Vector3d(p.x, p.y, p.z)));
+    cell_of[k] = cellOf(uv[k]);
+    if (cell_of[k] >= 0) sum[std::size_t(cell_of[k])] += distance[k];
+  }
+  std::size_t judged = 0, inner = 0;
+  for (std::size_t k = 0; k < support.size(); ++k) {
+    const int cell = cell_of[k];
+    if (cell < 0) continue;
+    const int count = counts.at<std::uint16_t>(cell / counts.cols, cell % counts.cols);
+    if (count < params.min_cell_points) continue;
+    const Point3f& p = scan.points[support[k]];
+    const double range = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+    const double half_band = (params.support_distance + per_metre * range) / 2;
+    ++judged;
+    inner += std::abs(distance[k] - sum[std::size_t(cell)] / float(count)) <= half_band;
+  }
+  return judged == 0 ? 0.0 : double(inner) / double(judged);
+}
+
+// Returns the area of its largest connected supported area; with `local_inner_fraction`, also the
+// share of support within the inner half of the band about its own cell's mean distance; with
+// `segments`, the plane's area is kept near its own segments.
 double buildSupportImage(const Scan& scan, const Plane& plane,
                          const std::vector<std::uint32_t>& support, const ValidationParams& params,
-                         double growth_gap, SupportImage& image) {
+                         double growth_gap, double per_metre, SupportImage& image,
+                         double* local_inner_fraction, const std::vector<LineSegment>* segments) {
   image.u_axis = plane.normal.unitOrthogonal();
   image.v_axis = plane.normal.cross(image.u_axis);
   image.cell = params.cell_size;
@@ -104,6 +141,33 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
     v_max = std::max(v_max, uv.back().y());
   }
   const double max_side = std::sqrt(double(params.max_image_cells)) * params.cell_size / 2.0;
+  // Kept near its own segments, the plane's image needs to cover only them and the growth gap
+  // around them (a wall's band crosses the whole frame; its own rings span a few metres).
+  std::vector<Eigen::Vector2d> own_uv;
+  if (segments) {
+    double own_u_min = 1e300, own_u_max = -1e300, own_v_min = 1e300, own_v_max = -1e300;
+    for (const std::uint32_t s : plane.segments) {
+      const LineSegment& segment = (*segments)[s];
+      for (std::size_t i = segment.first; i <= segment.last; ++i) {
+        if (!scan.isValid(i)) continue;
+        const Point3f& p = scan.points[i];
+        const Eigen::Vector3d q = Eigen::Vector3d(p.x, p.y, p.z) - centre;
+        own_uv.emplace_back(q.dot(image.u_axis), q.dot(image.v_axis));
+        own_u_min = std::min(own_u_min, own_uv.back().x());
+        own_u_max = std::max(own_u_max, own_uv.back().x());
+        own_v_min = std::min(own_v_min, own_uv.back().y());
+        own_v_max = std::max(own_v_max, own_uv.back().y());
+      }
+    }
+    u_min = std::max(u_min, own_u_min - growth_gap);
+    v_min = std::max(v_min, own_v_min - growth_gap);
+    u_max = std::min(u_max, own_u_max + growth_gap);
+    v_max = std::min(v_max, own_v_max + growth_gap);
+    if (u_min > u_max || v_min > v_max) {  // no support near its own segments
+      u_max = u_min;
+      v_max = v_min;
+    }
+  }
   u_min = std::max(u_min, -max_side);
   v_min = std::max(v_min, -max_side);
   u_max = std::min(u_max, max_side);
@@ -114,13 +178,21 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   image.height = std::max(1, int(std::ceil((v_max - v_min) / params.cell_size)) + 1);
 
   cv::Mat counts(image.height, image.width, CV_16UC1, cv::Scalar(0));
-  for (const Eigen::Vector2d& q : uv) {
+  auto cellOf = [&](const Eigen::Vector2d& q) -> int {
     const int column = int((q.x() - u_min) / params.cell_size);
     const int row = int((q.y() - v_min) / params.cell_size);
-    if (column < 0 || row < 0 || column >= image.width || row >= image.height) continue;
-    auto& count = counts.at<std::uint16_t>(row, column);
+    if (column < 0 || row < 0 || column >= image.width || row >= image.height) return -1;
+    return row * image.width + column;
+  };
+  for (const Eigen::Vector2d& q : uv) {
+    const int cell = cellOf(q);
+    if (cell < 0) continue;
+    auto& count = counts.at<std::uint16_t>(cell / image.width, cell % image.width);
     if (count < 65535) ++count;
   }
+  if (local_inner_fraction)
+    *local_inner_fraction =
+        crowdingAboutCells(scan, plane, support, uv, cellOf, counts, params, per_metre);
   // Validation: the dense, connected part of the support, with thin strips (where a phantom
   // plane cuts real ones) opened away.
   cv::Mat supported = counts >= params.min_cell_points;  // CV_8U, 255 where supported
@@ -164,6 +236,22 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
                  : supported.at<std::uint8_t>(row, column) > 0) &&
           keep[std::size_t(reach_labels.at<int>(row, column))])
         image.kept[std::size_t(row) * std::size_t(image.width) + std::size_t(column)] = 1;
+  if (segments) {
+    // The plane is known only near the points it was fitted to: its area stays within the growth
+    // gap of its own segments.
+    cv::Mat own(image.height, image.width, CV_8UC1, cv::Scalar(0));
+    for (const Eigen::Vector2d& q : own_uv) {
+      const int cell = cellOf(q);
+      if (cell >= 0) own.at<std::uint8_t>(cell / image.width, cell % image.width) = 255;
+    }
+    cv::dilate(own, own,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE,
+                                         cv::Size(2 * gap_cells + 1, 2 * gap_cells + 1)));
+    for (int row = 0; row < image.height; ++row)
+      for (int column = 0; column < image.width; ++column)
+        if (own.at<std::uint8_t>(row, column) == 0)
+          image.kept[std::size_t(row) * std::size_t(image.width) + std::size_t(column)] = 0;
+  }
   return largest * cell_area;
 }
 
@@ -190,13 +278,19 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
           supports[k] = supportingPoints(scan, blocks, plane, params.support_distance,
                                          spread.support_per_metre, inner);
           plane.support_points = supports[k].size();
-          const double area = supports[k].empty()
-                                  ? 0.0
-                                  : buildSupportImage(scan, plane, supports[k], params,
-                                                      spread.growth_gap, images[k]);
+          double local_inner = 0.0;
+          const double area =
+              supports[k].empty()
+                  ? 0.0
+                  : buildSupportImage(scan, plane, supports[k], params, spread.growth_gap,
+                                      spread.support_per_metre, images[k],
+                                      spread.local_crowding ? &local_inner : nullptr,
+                                      spread.own_segments);
           plane.support_area = area;
-          plane.inner_fraction =
-              supports[k].empty() ? 0.0 : double(inner) / double(supports[k].size());
+          plane.inner_fraction = supports[k].empty() ? 0.0
+                                 : spread.local_crowding
+                                     ? local_inner
+                                     : double(inner) / double(supports[k].size());
           plane.validated =
               area >= params.min_area && plane.inner_fraction >= params.min_inner_fraction;
         }

@@ -1,8 +1,11 @@
 #include "clearway/segmentation/scan_analysis.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include "clearway/segmentation/up_estimation.h"
+#include "clearway/traversability/ground_density.h"
 
 namespace clearway {
 namespace {
@@ -72,6 +75,8 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   SensorSpread spread;
   spread.growth_gap = multi_beam ? kRingGrowthGap : kLineGrowthGap;
   spread.support_per_metre = multi_beam ? kRingSupportPerMetre : 0.0;
+  spread.local_crowding = multi_beam;
+  spread.own_segments = multi_beam ? &analysis.segments : nullptr;
   analysis.planes = validatePlanes(scan, std::move(candidates), params.validation, threads, spread);
   clock.stop("validation");
   reportProgress(progress, 0.8);
@@ -109,6 +114,10 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
                             : estimate.reason;
     }
   }
+  if (multi_beam) {
+    absorbGroundPatches(scan, params.validation, spread, analysis);
+    dropUnreachableGround(scan, params.robot.max_step, params.robot.width, analysis);
+  }
   clock.stop("ground");
   reportProgress(progress, 0.85);
 
@@ -116,7 +125,21 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
     analysis.stairs.staircases = detectStairs(scan, analysis.map_from_scanner, params.stairs);
   clock.stop("stairs");
 
-  analysis.inputs = prepareMapInputs(scan, params, analysis, threads);
+  if (multi_beam && analysis.ground_found) {
+    // A multi-beam frame reaches 80 m and more, but its rings vouch for the ground only out to
+    // where an obstacle taller than the robot's step could no longer hide between them: farther
+    // cells could only ever be "too sparse". The map stops there, plus the robot's circumscribed
+    // radius so that its box can stand on the last vouched cells in every orientation.
+    SegmentationParams map_params = params;
+    const double height = analysis.map_from_scanner.translation().z();
+    const double box_radius = std::hypot(params.robot.width, params.robot.length) / 2;
+    map_params.map.max_extent =
+        std::min(params.map.max_extent,
+                 vouchedGroundRange(analysis.sensor, height, params.robot.max_step) + box_radius);
+    analysis.inputs = prepareMapInputs(scan, map_params, analysis, threads);
+  } else {
+    analysis.inputs = prepareMapInputs(scan, params, analysis, threads);
+  }
   analysis.stairs.cell_staircase = staircaseCells(analysis.stairs.staircases, analysis.inputs.grid);
   clock.stop("map_inputs");
   reportProgress(progress, 1.0);

@@ -5,8 +5,7 @@
 namespace clearway {
 namespace {
 
-// The range is searched outwards in steps this fine, up to the farthest a map reaches [m].
-constexpr double kRangeStep = 0.01;
+// Farther than any map reaches [m].
 constexpr double kFarthestRange = 500.0;
 
 }  // namespace
@@ -22,16 +21,7 @@ SensorGeometry rosiGeometry(int lines, double along_step_deg) {
 }
 
 double vouchedGroundRange(const SensorGeometry& sensor, double height, double max_step) {
-  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
-  const double largest_hidden = kSpacingPerStep * max_step;
-  double vouched = 0.0;
-  // The widest hidden obstacle grows with the range (both terms do), so the first range that
-  // fails ends the search.
-  for (double range = kRangeStep; range <= kFarthestRange; range += kRangeStep) {
-    if (hiddenObstacleSize(sensor, {range, 0.0, -height}, up, height) > largest_hidden) break;
-    vouched = range;
-  }
-  return vouched;
+  return vouchedRange(sensor, height, kSpacingPerStep * max_step, kFarthestRange);
 }
 
 }  // namespace clearway

@@ -80,6 +80,15 @@ struct SensorSpread {
   double growth_gap = 0.4;
   // The support band widens by this much per metre of range (0: params.support_distance flat).
   double support_per_metre = 0.0;
+  // Crowding (the inner-fraction test) is judged about the local surface, each support cell's mean
+  // distance to the plane, not about the plane itself: a multi-beam sensor's plane spans tens of
+  // metres of road whose camber and slope changes move it by more than the band's inner half,
+  // while its rings resolve the surface locally (docs/ALGORITHM.md, "Multi-beam frames").
+  bool local_crowding = false;
+  // When given (the segments the planes were clustered from), a plane's area stays within
+  // growth_gap of its own segments: a plane fitted to a few multi-beam rings has a tilt known only
+  // to their noise, and far from them it cuts the cars and kerbs it meets.
+  const std::vector<LineSegment>* own_segments = nullptr;
 };
 
 ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,

@@ -120,6 +120,20 @@ std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& par
 
 // Internal steps, exposed for tests.
 void selectGround(ScanAnalysis& analysis, const GroundParams& params);
+// Multi-beam frames: a ground plane whose own points lie mostly on the reference ground (within its
+// support band and area) is a patch of that ground fitted from a few rings, tilted by their noise:
+// its points on the reference go to the reference, the rest (where the tilt carried it into cars
+// and kerbs) to no plane, and it stops being ground. Returns how many planes were absorbed.
+std::size_t absorbGroundPatches(const Scan& scan, const ValidationParams& validation,
+                                const SensorSpread& spread, ScanAnalysis& analysis);
+// Multi-beam frames: ground is what the robot can drive onto from the reference ground, over a step
+// no higher than `max_rise` (its step) along a seam at least `min_width` long (its width): a ground
+// plane is kept when its own points within max_rise of a kept plane, over that plane's area, run
+// that far along its rings. The others (car roofs and bonnets, flat and below the sensor, or tilted
+// planes touching the road at a point) stop being ground, their points on no plane. Returns how
+// many planes were dropped.
+std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_width,
+                                  ScanAnalysis& analysis);
 // The robot-independent map inputs of an analysis whose ground is selected (stairs detected).
 MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                            const ScanAnalysis& analysis, int threads = 2);
