@@ -95,9 +95,9 @@ TEST(MultiBeamStreet, RoadAndPavementAreGroundTheCarIsNot) {
   ASSERT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
 
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.analysis->reason;
   const Plane& reference =
-      result.analysis.planes.planes[std::size_t(result.analysis.reference_ground)];
+      result.analysis->planes.planes[std::size_t(result.analysis->reference_ground)];
   EXPECT_NEAR(std::abs(reference.normal.z()), 1.0, 1e-3);
   EXPECT_NEAR(reference.offset, kSensorHeight, 0.02);
 

@@ -148,7 +148,7 @@ TEST_P(KittiFrame, TheRoadIsGround) {
   EXPECT_NEAR(road.offset, -1.73, 0.15);
   // The reference ground is the road: parallel to it within 1 deg, at its height within 5 cm.
   const Plane& reference =
-      result.analysis.planes.planes[std::size_t(result.analysis.reference_ground)];
+      result.analysis->planes.planes[std::size_t(result.analysis->reference_ground)];
   EXPECT_GT(std::abs(reference.normal.dot(road.normal)), std::cos(1.0 * std::numbers::pi / 180.0));
   EXPECT_NEAR(reference.offset, -road.offset, 0.05);
   EXPECT_GE(measureRoad(scan, result, road).recall(), 0.80);
@@ -160,7 +160,7 @@ TEST_P(KittiFrame, LittleAboveTheRoadIsGround) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("kitti/") + GetParam());
   const Scan scan = loadScan(file);
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
+  ASSERT_TRUE(result.trusted()) << result.analysis->reason;
   EXPECT_LT(measureRoad(scan, result, fitRoad(scan)).falseRate(), 0.01);
 }
 
@@ -171,15 +171,15 @@ TEST_P(KittiFrame, TheMapStopsWhereTheRingsVouchForTheGround) {
   const Scan scan = loadScan(file);
   const SegmentationParams params;
   const PipelineResult result = runPipeline(scan, params);
-  ASSERT_TRUE(result.trusted()) << result.analysis.reason;
-  const double height = result.analysis.map_from_scanner.translation().z();
+  ASSERT_TRUE(result.trusted()) << result.analysis->reason;
+  const double height = result.analysis->map_from_scanner.translation().z();
   const double largest_hidden = 2 * params.robot.max_step;  // cell_classes.h, kSpacingPerStep
   const double range =
-      vouchedRange(result.analysis.sensor, height, largest_hidden, params.map.max_extent);
+      vouchedRange(result.analysis->sensor, height, largest_hidden, params.map.max_extent);
   // The vouched range is where the hidden-obstacle bound crosses twice the step: the HDL-64E's
   // 0.41 deg ring step gives about 14 m.
   auto hidden = [&](double r) {
-    return hiddenObstacleSize(result.analysis.sensor, Eigen::Vector3d(r, 0.0, -height),
+    return hiddenObstacleSize(result.analysis->sensor, Eigen::Vector3d(r, 0.0, -height),
                               Eigen::Vector3d::UnitZ(), height);
   };
   EXPECT_LE(hidden(range), largest_hidden);
