@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
@@ -60,19 +61,21 @@ std::size_t beyond(const std::vector<Offset>& offsets, float radius) {
                      offsets.begin());
 }
 
-// The smallest |a + b| over a in [a0, a1], b in [b0, b1] (ends in any order), 0 when it spans 0.
-double smallestMagnitude(double a0, double a1, double b0, double b1) {
-  const double low = std::min(a0, a1) + std::min(b0, b1);
-  const double high = std::max(a0, a1) + std::max(b0, b1);
-  return low > 0 ? low : (high < 0 ? -high : 0.0);
-}
+// Two points whose projections on an axis are closer than this are both kept as the extreme [m]:
+// far above the rounding of a coordinate of a few tens of metres, far below any distance that
+// matters.
+constexpr double kTieTolerance = 1e-9;
 
-// The largest |a + b| over the same.
-double largestMagnitude(double a0, double a1, double b0, double b1) {
-  const double low = std::min(a0, a1) + std::min(b0, b1);
-  const double high = std::max(a0, a1) + std::max(b0, b1);
-  return std::max(-low, high);
-}
+// The range of a + b over a in [a0, a1], b in [b0, b1] (ends in any order). Rounding is monotone,
+// so a + b computed for any a and b in there lies in the computed range.
+struct Range {
+  double low, high;
+  Range(double a0, double a1, double b0, double b1)
+      : low(std::min(a0, a1) + std::min(b0, b1)), high(std::max(a0, a1) + std::max(b0, b1)) {}
+  double smallestMagnitude() const { return low > 0 ? low : (high < 0 ? -high : 0.0); }
+  double largestMagnitude() const { return std::max(-low, high); }
+  bool oneSign() const { return low > 0 || high < 0; }
+};
 
 std::vector<float> distancesLessOneCell(const cv::Mat& free_mask) {
   cv::Mat distance;
@@ -222,6 +225,15 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
         bounds.max_y = std::max(bounds.max_y, double(classes.ys[p]));
       }
     }
+  first_slot_.assign(grid.cells(), kNoPoints);
+  std::size_t slots = 0;
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+    if (classes.point_start[cell] != classes.point_start[cell + 1]) {
+      first_slot_[cell] = std::uint32_t(slots);
+      slots += footprints.yaw.size();
+    }
+  extremes_.resize(slots);
+  slot_state_ = std::make_unique<std::atomic<std::uint8_t>[]>(slots);  // all kSlotEmpty
   auto linear = [&](const std::vector<std::vector<Offset>>& lists) {
     std::vector<std::vector<std::ptrdiff_t>> result;
     for (const auto& offsets : lists) {
@@ -251,6 +263,80 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
       }
     turns_.push_back(turn);
   }
+}
+
+const FootprintTester::Extremes* FootprintTester::extremes(std::size_t cell, std::size_t k) const {
+  const std::size_t slot = first_slot_[cell] + k;
+  std::atomic<std::uint8_t>& state = slot_state_[slot];
+  if (state.load(std::memory_order_acquire) == kSlotReady) return &extremes_[slot];
+  std::uint8_t expected = kSlotEmpty;
+  if (!state.compare_exchange_strong(expected, kSlotFilling, std::memory_order_acq_rel))
+    return state.load(std::memory_order_acquire) == kSlotReady ? &extremes_[slot] : nullptr;
+  const double c = turns_[k].c, s = turns_[k].s;
+  const std::uint32_t first = classes_.point_start[cell], last = classes_.point_start[cell + 1];
+  // One pass: the least and most projection on each axis, and the runners-up to tell ties.
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  std::array<double, 4> best, runner_up;  // -u, +u, -v, +v as values to minimise
+  best.fill(kInfinity);
+  runner_up.fill(kInfinity);
+  Extremes found{};
+  for (std::uint32_t p = first; p < last; ++p) {
+    const double x = classes_.xs[p], y = classes_.ys[p];
+    const double u = x * c + y * s, v = -x * s + y * c;
+    const std::array<double, 4> values = {u, -u, v, -v};
+    for (std::size_t e = 0; e < 4; ++e) {
+      if (values[e] < best[e]) {
+        runner_up[e] = best[e];
+        best[e] = values[e];
+        found[e] = p;
+      } else if (values[e] < runner_up[e]) {
+        runner_up[e] = values[e];
+      }
+    }
+  }
+  for (std::size_t e = 0; e < 4; ++e)
+    if (runner_up[e] - best[e] < kTieTolerance) found[e] = kSeveral;
+  extremes_[slot] = found;
+  state.store(kSlotReady, std::memory_order_release);
+  return &extremes_[slot];
+}
+
+template <typename Add>
+bool FootprintTester::addCellPoints(std::size_t cell, std::size_t k, const Eigen::Vector2d& centre,
+                                    Add&& add) const {
+  const std::uint32_t first = classes_.point_start[cell], last = classes_.point_start[cell + 1];
+  if (first == last) return true;
+  const Turn& turn = turns_[k];
+  const double c = turn.c, s = turn.s, shift = turn.shift;
+  // The cell's points as a whole, by their bounds in the box's frame.
+  const PointBounds& b = point_bounds_[cell];
+  const double x0 = b.min_x - centre.x(), x1 = b.max_x - centre.x();
+  const double y0 = b.min_y - centre.y(), y1 = b.max_y - centre.y();
+  const Range u(x0 * c, x1 * c, y0 * s, y1 * s), v(-x0 * s, -x1 * s, y0 * c, y1 * c);
+  // All beyond the box and its centres' reach: none would be gathered.
+  if (u.smallestMagnitude() >= half_length_ + shift + kBoundsSlack ||
+      v.smallestMagnitude() >= half_width_ + shift + kBoundsSlack)
+    return true;
+  // All deep inside it: the first one blocks every centre.
+  const bool u_inside = u.largestMagnitude() < half_length_ - shift - kBoundsSlack;
+  const bool v_inside = v.largestMagnitude() < half_width_ - shift - kBoundsSlack;
+  if (u_inside && v_inside) return false;
+  // All across one edge only (inside the other pair of edges for every centre, on one side of
+  // the box's axis): a point blocks a centre when it is nearer the axis than the edge, so the
+  // point nearest the axis blocks every centre any of them blocks. It stands for them all.
+  std::uint32_t only = kSeveral;
+  if (v_inside && u.oneSign()) {
+    if (const Extremes* e = extremes(cell, k)) only = (*e)[u.low > 0 ? kLeastU : kMostU];
+  } else if (u_inside && v.oneSign()) {
+    if (const Extremes* e = extremes(cell, k)) only = (*e)[v.low > 0 ? kLeastV : kMostV];
+  }
+  if (only != kSeveral) {
+    add(classes_.xs[only], classes_.ys[only]);
+  } else {
+    for (std::uint32_t p = first; p < last; ++p)
+      add(classes_.xs[p], classes_.ys[p]);
+  }
+  return true;
 }
 
 bool FootprintTester::fitsEnlarged(int column, int row, int orientation) const {
@@ -300,22 +386,7 @@ bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) co
     if (code == 0) continue;
     const int cc = column + rim[i].dx, rr = row + rim[i].dy;
     if (code == 1) {  // only cells inside the grid hold points
-      const std::size_t cell = grid_.index(cc, rr);
-      const std::uint32_t first = classes_.point_start[cell], last = classes_.point_start[cell + 1];
-      if (first == last) continue;
-      // The cell's points as a whole, by their bounds: all beyond the box and its centres'
-      // reach (none would be gathered), or all deep inside it (the first would stop the test).
-      const PointBounds& b = point_bounds_[cell];
-      const double x0 = b.min_x - centre.x(), x1 = b.max_x - centre.x();
-      const double y0 = b.min_y - centre.y(), y1 = b.max_y - centre.y();
-      if (smallestMagnitude(x0 * c, x1 * c, y0 * s, y1 * s) >= half_length + shift + kBoundsSlack ||
-          smallestMagnitude(-x0 * s, -x1 * s, y0 * c, y1 * c) >= half_width + shift + kBoundsSlack)
-        continue;
-      if (largestMagnitude(x0 * c, x1 * c, y0 * s, y1 * s) < half_length - shift - kBoundsSlack &&
-          largestMagnitude(-x0 * s, -x1 * s, y0 * c, y1 * c) < half_width - shift - kBoundsSlack)
-        return false;
-      for (std::uint32_t p = first; p < last; ++p)
-        add(classes_.xs[p], classes_.ys[p]);
+      if (!addCellPoints(grid_.index(cc, rr), k, centre, add)) return false;
     } else {
       const Eigen::Vector2d other = grid_.centre(cc, rr);
       add(other.x(), other.y());

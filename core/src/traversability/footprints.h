@@ -6,7 +6,10 @@
 // (green) and the exact test of the nominal box against the measured points (orange).
 
 #include <array>
+#include <atomic>
 #include <cstdint>
+#include <limits>
+#include <memory>
 #include <vector>
 
 #include "cell_classes.h"
@@ -112,6 +115,21 @@ class FootprintTester {
   struct PointBounds {
     double min_x, max_x, min_y, max_y;
   };
+  // A cell's points that lie farthest along -u, +u, -v and +v of one orientation (indices into
+  // CellClasses::xs/ys), kSeveral where two points come within kTieTolerance of the extreme.
+  enum Extreme { kLeastU, kMostU, kLeastV, kMostV };
+  using Extremes = std::array<std::uint32_t, 4>;
+  static constexpr std::uint32_t kSeveral = std::numeric_limits<std::uint32_t>::max();
+  static constexpr std::uint32_t kNoPoints = std::numeric_limits<std::uint32_t>::max();
+
+  // The extremes of `cell`'s points in orientation k, worked out on first use (by one thread;
+  // nullptr while another one is at it).
+  const Extremes* extremes(std::size_t cell, std::size_t k) const;
+  // Adds what `cell`'s points contribute to the exact test at a box centred `centre` in
+  // orientation k, through `add(x, y)`; false when they block every centre of the test.
+  template <typename Add>
+  bool addCellPoints(std::size_t cell, std::size_t k, const Eigen::Vector2d& centre,
+                     Add&& add) const;
 
   std::size_t index(int column, int row) const {
     return std::size_t(row) * std::size_t(grid_.width) + std::size_t(column);
@@ -134,6 +152,11 @@ class FootprintTester {
   std::vector<std::uint8_t> strict_;       // padded
   std::vector<std::uint8_t> lenient_;      // padded
   std::vector<PointBounds> point_bounds_;  // per cell with blocking points
+  // Per cell with blocking points, its first slot of orientations in extremes_ (else kNoPoints).
+  std::vector<std::uint32_t> first_slot_;
+  mutable std::vector<Extremes> extremes_;
+  enum SlotState : std::uint8_t { kSlotEmpty, kSlotFilling, kSlotReady };
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> slot_state_;
   // Per orientation, the footprints' offsets as steps in the padded arrays.
   std::vector<std::vector<std::ptrdiff_t>> enlarged_, core_, rim_;
   std::vector<Turn> turns_;
