@@ -157,58 +157,59 @@ void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, in
   const std::vector<std::vector<int>> turns = turnNeighbours(map.yaws);
   // Breadth first, one ring of states at a time: the fits of a ring's new states are tested in
   // parallel (each state once, each into its own memo slot), then the ones that fit are entered.
+  // States travel with their column, row and orientation: no division to recover them.
+  struct Pose {
+    int column, row, k;
+  };
   std::vector<std::uint8_t> queued(grid.cells() * orientations, 0);
   auto stateOf = [&](int column, int row, int k) {
     return grid.index(column, row) * orientations + std::size_t(k);
   };
-  auto fitOf = [&](std::size_t state) {
-    const std::size_t cell = state / orientations;
-    return fitAt(int(cell % std::size_t(grid.width)), int(cell / std::size_t(grid.width)),
-                 int(state % orientations));
-  };
-  const std::size_t first = stateOf(start.x(), start.y(), map.robot_orientation);
-  queued[first] = 1;
+  auto fitOf = [&](const Pose& pose) { return fitAt(pose.column, pose.row, pose.k); };
+  const Pose first{start.x(), start.y(), map.robot_orientation};
+  const std::size_t first_state = stateOf(first.column, first.row, first.k);
+  queued[first_state] = 1;
   // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
   // off its exact position, touch something just outside its box.
-  map.pose_fit[first] = std::uint8_t(fitOf(first));
-  if (map.pose_fit[first] == std::uint8_t(PoseFit::kBlocked))
-    map.pose_fit[first] = std::uint8_t(PoseFit::kCareful);
-  std::vector<std::size_t> ring = {first}, candidates;
+  map.pose_fit[first_state] = std::uint8_t(fitOf(first));
+  if (map.pose_fit[first_state] == std::uint8_t(PoseFit::kBlocked))
+    map.pose_fit[first_state] = std::uint8_t(PoseFit::kCareful);
+  std::vector<Pose> ring = {first}, candidates;
   while (!ring.empty()) {
-    for (const std::size_t state : ring) {
-      const std::size_t cell = state / orientations;
+    for (const Pose& pose : ring) {
+      const std::size_t cell = grid.index(pose.column, pose.row);
       if (!map.reach[cell]) {
         map.reach[cell] = 1;
         ++map.reachable_cells;
       }
     }
     candidates.clear();
-    for (const std::size_t state : ring) {
-      const std::size_t cell = state / orientations;
-      const int k = int(state % orientations);
-      const int column = int(cell % std::size_t(grid.width)),
-                row = int(cell / std::size_t(grid.width));
-      auto propose = [&](std::size_t next) {
-        if (queued[next]) return;
-        queued[next] = 1;
-        candidates.push_back(next);
+    for (const Pose& pose : ring) {
+      auto propose = [&](int column, int row, int k) {
+        std::uint8_t& seen = queued[stateOf(column, row, k)];
+        if (seen) return;
+        seen = 1;
+        candidates.push_back({column, row, k});
       };
       for (int n = 0; n < 8; ++n) {
-        const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
-        if (grid.inside(c, r)) propose(stateOf(c, r, k));
+        const int c = pose.column + kNeighbourColumns[n], r = pose.row + kNeighbourRows[n];
+        if (grid.inside(c, r)) propose(c, r, pose.k);
       }
-      for (int other : turns[std::size_t(k)])
-        propose(cell * orientations + std::size_t(other));
+      for (int other : turns[std::size_t(pose.k)])
+        propose(pose.column, pose.row, other);
     }
     const int workers = candidates.size() >= kParallelRing ? threads : 1;
-    parallelChunks(candidates.size(), workers,
-                   [&](std::size_t begin, std::size_t end, std::size_t) {
-                     for (std::size_t i = begin; i < end; ++i)
-                       map.pose_fit[candidates[i]] = std::uint8_t(fitOf(candidates[i]));
-                   });
+    parallelChunks(
+        candidates.size(), workers, [&](std::size_t begin, std::size_t end, std::size_t) {
+          for (std::size_t i = begin; i < end; ++i) {
+            const Pose& pose = candidates[i];
+            map.pose_fit[stateOf(pose.column, pose.row, pose.k)] = std::uint8_t(fitOf(pose));
+          }
+        });
     ring.clear();
-    for (const std::size_t state : candidates)
-      if (map.pose_fit[state] != std::uint8_t(PoseFit::kBlocked)) ring.push_back(state);
+    for (const Pose& pose : candidates)
+      if (map.pose_fit[stateOf(pose.column, pose.row, pose.k)] != std::uint8_t(PoseFit::kBlocked))
+        ring.push_back(pose);
   }
 }
 
@@ -254,13 +255,11 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   // A*: the straight-line distance to the goal never overestimates (green costs 1 per metre, turns
   // cost more than nothing), so the first time the goal leaves the queue its path is cheapest.
   const Eigen::Vector2d goal_centre = grid.centre(goal.x(), goal.y());
-  auto remaining = [&](std::size_t cell) {
-    const int column = int(cell % std::size_t(grid.width)),
-              row = int(cell / std::size_t(grid.width));
+  auto remaining = [&](int column, int row) {
     return (grid.centre(column, row) - goal_centre).norm();
   };
   cost[first] = 0.0;
-  queue.push({remaining(first / orientations), first});
+  queue.push({remaining(start.x(), start.y()), first});
   auto passable = [&](std::size_t state) {
     const auto f = PoseFit(map.pose_fit[state]);
     return f == PoseFit::kClear || f == PoseFit::kCareful;
@@ -270,16 +269,18 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
     const auto [priority, state] = queue.top();
     queue.pop();
     const std::size_t cell = state / orientations;
+    const int k = int(state - cell * orientations);
+    const int row = int(cell / std::size_t(grid.width));
+    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
     const double here_cost = cost[state];
-    if (priority > here_cost + remaining(cell) + 1e-9) continue;  // a stale entry
-    const int k = int(state % orientations);
+    const double here_remaining = remaining(column, row);
+    if (priority > here_cost + here_remaining + 1e-9) continue;  // a stale entry
     if (cell == goal_cell) {
       reached = std::int64_t(state);
       break;
     }
-    const int column = int(cell % std::size_t(grid.width)),
-              row = int(cell / std::size_t(grid.width));
-    auto relax = [&](std::size_t next, double step) {
+    // The heuristic is worked out only for states that get queued (a square root each).
+    auto relax = [&](std::size_t next, auto&& next_remaining, double step) {
       if (!passable(next)) return;
       const double factor =
           PoseFit(map.pose_fit[next]) == PoseFit::kCareful ? kCarefulCostFactor : 1.0;
@@ -287,17 +288,19 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
       if (next_cost < cost[next]) {
         cost[next] = next_cost;
         previous[next] = std::int64_t(state);
-        queue.push({next_cost + remaining(next / orientations), next});
+        queue.push({next_cost + next_remaining(), next});
       }
     };
     for (int n = 0; n < 8; ++n) {
       const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
       if (!grid.inside(c, r)) continue;
       const double step = grid.resolution * (n < 4 ? 1.0 : std::numbers::sqrt2);
-      relax(grid.index(c, r) * orientations + std::size_t(k), step);
+      relax(
+          grid.index(c, r) * orientations + std::size_t(k), [&] { return remaining(c, r); }, step);
     }
     for (int other : turns[std::size_t(k)])
-      relax(cell * orientations + std::size_t(other), kTurnCost);
+      relax(
+          cell * orientations + std::size_t(other), [&] { return here_remaining; }, kTurnCost);
   }
   if (reached < 0) {
     result.reason = "no path found to the goal";
