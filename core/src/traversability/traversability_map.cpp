@@ -26,15 +26,6 @@ using detail::kExactTestSlackCells;
 using detail::kGreenMarginCells;
 using detail::makeFootprints;
 
-// What the label loop learnt about each pose (cell, orientation), bits for the reachability
-// search: it tries the same tests on the same poses, and each costs far more than a look-up.
-enum PoseTests : std::uint8_t {
-  kEnlargedTried = 1,
-  kEnlargedFits = 2,
-  kExactTried = 4,
-  kExactFits = 8,
-};
-
 // Moves the robot's box over every free cell of `classes`: labels, reasons and orientations of
 // `map` (whose grid is set).
 // With `reach_into`, also searches where the robot can get from its own pose (map.robot_pose),
@@ -42,104 +33,95 @@ enum PoseTests : std::uint8_t {
 void placeRobot(const CellClasses& classes, const RobotParams& robot, const MapParams& params,
                 int threads, TraversabilityMap& map, TraversabilityMap* reach_into = nullptr) {
   const Footprints footprints = makeFootprints(robot, params.resolution, map.yaws, threads);
-  const int orientations = int(map.yaws.size());
+  const std::size_t orientations = map.yaws.size();
   const FootprintTester tester(map.grid, classes, detail::toleratedUnknownCells(classes, map.grid),
                                footprints, robot);
   // Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged
   // box in every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
   const double coarse_radius = footprints.inner_radius + kGreenMarginCells;
   const double exact_radius = footprints.inner_radius - kExactTestSlackCells;
-  std::vector<std::uint8_t> tried(reach_into ? map.grid.cells() * std::size_t(orientations) : 0, 0);
-  auto enlargedFits = [&](int column, int row, std::size_t cell, int k) {
-    const bool fits = tester.fitsEnlarged(column, row, k);
-    if (!tried.empty())
-      tried[cell * std::size_t(orientations) + std::size_t(k)] |=
-          std::uint8_t(kEnlargedTried | (fits ? kEnlargedFits : 0));
-    return fits;
-  };
-  auto exactFits = [&](int column, int row, std::size_t cell, int k) {
-    const bool fits = tester.fitsExactlyInCell(column, row, k);
-    if (!tried.empty())
-      tried[cell * std::size_t(orientations) + std::size_t(k)] |=
-          std::uint8_t(kExactTried | (fits ? kExactFits : 0));
-    return fits;
-  };
-  detail::parallelChunks(
-      std::size_t(map.grid.height), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
-        for (int row = int(begin); row < int(end); ++row) {
-          // Neighbouring cells tend to fit the same way: start where the last cell fitted.
-          int last_fit = 0;
-          for (int column = 0; column < map.grid.width; ++column) {
-            const std::size_t cell = map.grid.index(column, row);
-            const CellState state = classes.state[cell];
-            if (state == CellState::kUnknown) continue;
-            if (state == CellState::kBlocked) {
-              map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
-              map.reasons[cell] = std::uint8_t(classes.reason[cell]);
-              continue;
-            }
-            const float free_radius = tester.clearance(column, row);
-            int fit = -1;
-            bool careful = false;
-            if (free_radius > footprints.outer_radius) {
-              fit = 0;
-            } else {
-              if (free_radius >= coarse_radius)
-                for (int n = 0; n < orientations && fit < 0; ++n) {
-                  const int k = (last_fit + n) % orientations;
-                  if (enlargedFits(column, row, cell, k)) fit = k;
-                }
-              if (fit < 0 && tester.lenientClearance(column, row) >= exact_radius)
-                for (int n = 0; n < orientations && fit < 0; ++n) {
-                  const int k = (last_fit + n) % orientations;
-                  if (exactFits(column, row, cell, k)) {
-                    fit = k;
-                    careful = true;
-                  }
-                }
-            }
-            if (fit >= 0) last_fit = fit;
-            if (fit < 0) {
-              map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
-              map.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);
-              continue;
-            }
-            map.orientation[cell] = std::uint8_t(fit);
-            if (state == CellState::kLowObstacle) {
-              map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
-            } else {
-              map.labels[cell] =
-                  std::uint8_t(careful ? CellLabel::kCareful : CellLabel::kTraversable);
-            }
-          }
-        }
-      });
-  if (!reach_into) return;
-  // Where the robot can get from its own pose: the same tests as above, one pose at a time.
-  // The label loop above tried every orientation where nothing fits: those cells are settled;
-  // what it tried elsewhere is looked up, not tested again.
-  detail::searchReachable(
-      *reach_into,
-      [&](int column, int row, int k) {
+  // With a search to follow, every pose of every cell the box may fit in is tested here, in
+  // parallel, once: the search visits nearly all of them, and then only looks its fits up
+  // (PoseFit per cell * orientations + k). Without, a cell's test stops at the first fit.
+  std::vector<std::uint8_t> pose_fits(reach_into ? map.grid.cells() * orientations : 0,
+                                      std::uint8_t(PoseFit::kBlocked));
+  // Rows are dealt out in turn (row r to part r mod parts): the walls, where the tests cost, are
+  // then shared evenly.
+  const std::size_t parts = std::size_t(std::max(threads, 1));
+  detail::parallelChunks(parts, threads, [&](std::size_t part, std::size_t, std::size_t) {
+    for (int row = int(part); row < map.grid.height; row += int(parts)) {
+      // Neighbouring cells tend to fit the same way: start where the last cell fitted.
+      int last_fit = 0;
+      for (int column = 0; column < map.grid.width; ++column) {
         const std::size_t cell = map.grid.index(column, row);
-        const auto label = CellLabel(map.labels[cell]);
-        if (label != CellLabel::kTraversable && label != CellLabel::kCareful &&
-            label != CellLabel::kObstacle)
-          return PoseFit::kBlocked;
+        const CellState state = classes.state[cell];
+        if (state == CellState::kUnknown) continue;
+        if (state == CellState::kBlocked) {
+          map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+          map.reasons[cell] = std::uint8_t(classes.reason[cell]);
+          continue;
+        }
         const float free_radius = tester.clearance(column, row);
-        if (free_radius > footprints.outer_radius) return PoseFit::kClear;
-        const std::uint8_t known = tried[cell * std::size_t(orientations) + std::size_t(k)];
-        if (free_radius >= coarse_radius &&
-            ((known & kEnlargedTried) ? (known & kEnlargedFits) != 0
-                                      : tester.fitsEnlarged(column, row, k)))
-          return PoseFit::kClear;
-        if (tester.lenientClearance(column, row) >= exact_radius &&
-            ((known & kExactTried) ? (known & kExactFits) != 0
-                                   : tester.fitsExactlyInCell(column, row, k)))
-          return PoseFit::kCareful;
-        return PoseFit::kBlocked;
-      },
-      threads);
+        const bool coarse = free_radius >= coarse_radius;
+        const bool exact = tester.lenientClearance(column, row) >= exact_radius;
+        int fit = -1;
+        bool careful = false;
+        if (free_radius > footprints.outer_radius) {
+          fit = 0;
+          if (!pose_fits.empty())
+            std::fill_n(pose_fits.begin() + std::ptrdiff_t(cell * orientations), orientations,
+                        std::uint8_t(PoseFit::kClear));
+        } else if (!pose_fits.empty()) {
+          std::uint8_t* fits = pose_fits.data() + cell * orientations;
+          for (std::size_t k = 0; k < orientations; ++k)
+            if (coarse && tester.fitsEnlarged(column, row, int(k)))
+              fits[k] = std::uint8_t(PoseFit::kClear);
+            else if (exact && tester.fitsExactlyInCell(column, row, int(k)))
+              fits[k] = std::uint8_t(PoseFit::kCareful);
+          // The label's orientation as the loop below picks it: the first that fits green
+          // from the last cell's, else the first that fits at all.
+          for (const PoseFit wanted : {PoseFit::kClear, PoseFit::kCareful})
+            for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+              const std::size_t k = (std::size_t(last_fit) + n) % orientations;
+              if (fits[k] == std::uint8_t(wanted)) {
+                fit = int(k);
+                careful = wanted == PoseFit::kCareful;
+              }
+            }
+        } else {
+          if (coarse)
+            for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+              const int k = int((std::size_t(last_fit) + n) % orientations);
+              if (tester.fitsEnlarged(column, row, k)) fit = k;
+            }
+          if (fit < 0 && exact)
+            for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+              const int k = int((std::size_t(last_fit) + n) % orientations);
+              if (tester.fitsExactlyInCell(column, row, k)) {
+                fit = k;
+                careful = true;
+              }
+            }
+        }
+        if (fit >= 0) last_fit = fit;
+        if (fit < 0) {
+          map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+          map.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);
+          continue;
+        }
+        map.orientation[cell] = std::uint8_t(fit);
+        if (state == CellState::kLowObstacle) {
+          map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
+        } else {
+          map.labels[cell] = std::uint8_t(careful ? CellLabel::kCareful : CellLabel::kTraversable);
+        }
+      }
+    }
+  });
+  if (!reach_into) return;
+  // Where the robot can get from its own pose, on the fits found above: a look-up per pose.
+  // Cells that are not free, or where the box fits in no orientation, kept kBlocked throughout.
+  detail::searchReachable(*reach_into, pose_fits);
 }
 
 }  // namespace
