@@ -172,7 +172,8 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
 
 FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes,
                                  const std::vector<std::uint8_t>& tolerated,
-                                 const Footprints& footprints, const RobotParams& robot)
+                                 const Footprints& footprints, const RobotParams& robot,
+                                 int threads)
     : grid_(grid), classes_(classes), footprints_(footprints) {
   half_length_ = robot.length / 2;
   half_width_ = robot.width / 2;
@@ -189,8 +190,12 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column)
       if (tolerated[grid.index(column, row)]) lenient_mask.at<std::uint8_t>(row, column) = 255;
-  clearance_ = distancesLessOneCell(free_mask);
-  lenient_clearance_ = distancesLessOneCell(lenient_mask);
+  // The two distance transforms side by side.
+  parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t which = begin; which < end; ++which)
+      (which == 0 ? clearance_ : lenient_clearance_) =
+          distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
+  });
 
   for (const auto* lists : {&footprints.enlarged, &footprints.rim})
     for (const auto& offsets : *lists)

@@ -82,7 +82,7 @@ class FootprintTester {
  public:
   FootprintTester(const MapGrid& grid, const CellClasses& classes,
                   const std::vector<std::uint8_t>& tolerated, const Footprints& footprints,
-                  const RobotParams& robot);
+                  const RobotParams& robot, int threads = 1);
 
   // Distance (in cells) from the cell's centre to the nearest cell that blocks, less one cell:
   // strictly (unobserved blocks) and leniently (tolerated unobserved cells do not). The distance

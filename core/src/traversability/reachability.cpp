@@ -253,10 +253,14 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
   const Mask start_bit = Mask{1} << bit_of[std::size_t(map.robot_orientation)];
   open[start_cell] = start_bit;
   reached[start_cell] = closeTurns(start_bit, openAt(start_cell));
+  // Cells whose reached orientations grew and are still to be handed on, first in first out (a
+  // cell is then rarely handed on twice), each queued at most once at a time.
   std::vector<std::uint32_t> work = {std::uint32_t(start_cell)};
-  while (!work.empty()) {
-    const std::size_t cell = work.back();
-    work.pop_back();
+  std::vector<std::uint8_t> in_work(cells, 0);
+  in_work[start_cell] = 1;
+  for (std::size_t head = 0; head < work.size(); ++head) {
+    const std::size_t cell = work[head];
+    in_work[cell] = 0;
     const int row = int(cell / std::size_t(grid.width));
     const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
     const Mask here = reached[cell];
@@ -267,7 +271,10 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
       const Mask arriving = here & ~reached[next] & openAt(next);
       if (!arriving) continue;
       reached[next] = closeTurns(reached[next] | arriving, open[next]);
-      work.push_back(std::uint32_t(next));
+      if (!in_work[next]) {
+        in_work[next] = 1;
+        work.push_back(std::uint32_t(next));
+      }
     }
   }
   // Met: every reached pose's neighbours in its heading and its turns, each given its fit.

@@ -35,7 +35,7 @@ void placeRobot(const CellClasses& classes, const RobotParams& robot, const MapP
   const Footprints footprints = makeFootprints(robot, params.resolution, map.yaws, threads);
   const std::size_t orientations = map.yaws.size();
   const FootprintTester tester(map.grid, classes, detail::toleratedUnknownCells(classes, map.grid),
-                               footprints, robot);
+                               footprints, robot, threads);
   // Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged
   // box in every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
   const double coarse_radius = footprints.inner_radius + kGreenMarginCells;
@@ -48,7 +48,7 @@ void placeRobot(const CellClasses& classes, const RobotParams& robot, const MapP
   // Rows are dealt out in turn (row r to part r mod parts): the walls, where the tests cost, are
   // then shared evenly.
   const std::size_t parts = std::size_t(std::max(threads, 1));
-  detail::parallelChunks(parts, threads, [&](std::size_t part, std::size_t, std::size_t) {
+  auto placeRows = [&](std::size_t part) {
     for (int row = int(part); row < map.grid.height; row += int(parts)) {
       // Neighbouring cells tend to fit the same way: start where the last cell fitted.
       int last_fit = 0;
@@ -117,6 +117,10 @@ void placeRobot(const CellClasses& classes, const RobotParams& robot, const MapP
         }
       }
     }
+  };
+  detail::parallelChunks(parts, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t part = begin; part < end; ++part)
+      placeRows(part);
   });
   if (!reach_into) return;
   // Where the robot can get from its own pose, on the fits found above: a look-up per pose.

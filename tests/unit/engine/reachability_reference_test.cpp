@@ -343,9 +343,10 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
 INSTANTIATE_TEST_SUITE_P(PeersTableScenes, TraversabilityAgainstReference,
                          ::testing::Values(Case{"garage", 0.85}, Case{"garage", 0.95},
                                            Case{"hallway", 0.85}, Case{"doorways", 0.85}),
-                         [](const ::testing::TestParamInfo<Case>& info) {
-                           return std::string(info.param.scene) + "_" +
-                                  std::to_string(int(std::lround(info.param.robot_width * 100)));
+                         [](const ::testing::TestParamInfo<Case>& param_info) {
+                           return std::string(param_info.param.scene) + "_" +
+                                  std::to_string(
+                                      int(std::lround(param_info.param.robot_width * 100)));
                          });
 
 }  // namespace
