@@ -37,55 +37,58 @@ constexpr int kPathPoseEvery = 10;
 constexpr int kNeighbourColumns[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kNeighbourRows[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 
-// The A* queue: a 4-ary min-heap of (priority, state), ordered like std::priority_queue with
-// std::greater on the pair (equal priorities by state), so states leave in the same order; four
-// children per node halve the depth and keep each node's children in one or two cache lines.
+// The A* queue of (priority, state), ordered like std::priority_queue with std::greater on the
+// pair (equal priorities by state), so states leave in exactly that order. Priorities fall into
+// buckets `width` wide: only the lowest bucket is kept as a heap (a few dozen entries), the later
+// ones are plain lists heaped when their turn comes. An entry below the lowest bucket (rounding)
+// joins its heap, where it still leaves first.
 class QueueOfStates {
  public:
   struct Entry {
     double priority;
     std::size_t state;
+    // std::*_heap keep the largest on top: the greater entry is the lesser here.
     bool operator<(const Entry& other) const {
-      return priority < other.priority || (priority == other.priority && state < other.state);
+      return priority > other.priority || (priority == other.priority && state > other.state);
     }
   };
-  bool empty() const { return entries_.empty(); }
+  explicit QueueOfStates(double width) : width_(width) {}
+  bool empty() const { return size_ == 0; }
   void push(Entry entry) {
-    std::size_t at = entries_.size();
-    entries_.push_back(entry);
-    while (at > 0) {
-      const std::size_t parent = (at - 1) / kArity;
-      if (!(entry < entries_[parent])) break;
-      entries_[at] = entries_[parent];
-      at = parent;
+    ++size_;
+    const std::size_t bucket = bucketOf(entry.priority);
+    if (bucket <= current_) {
+      lowest_.push_back(entry);
+      std::push_heap(lowest_.begin(), lowest_.end());
+      return;
     }
-    entries_[at] = entry;
+    if (bucket >= later_.size()) later_.resize(bucket + 1);
+    later_[bucket].push_back(entry);
   }
   Entry pop() {
-    const Entry top = entries_.front();
-    const Entry last = entries_.back();
-    entries_.pop_back();
-    const std::size_t size = entries_.size();
-    if (size == 0) return top;
-    std::size_t at = 0;
-    for (;;) {
-      const std::size_t first_child = at * kArity + 1;
-      if (first_child >= size) break;
-      std::size_t least = first_child;
-      const std::size_t end = std::min(first_child + kArity, size);
-      for (std::size_t child = first_child + 1; child < end; ++child)
-        if (entries_[child] < entries_[least]) least = child;
-      if (!(entries_[least] < last)) break;
-      entries_[at] = entries_[least];
-      at = least;
+    while (lowest_.empty()) {
+      ++current_;
+      if (current_ < later_.size()) {
+        lowest_.swap(later_[current_]);
+        std::make_heap(lowest_.begin(), lowest_.end());
+      }
     }
-    entries_[at] = last;
+    std::pop_heap(lowest_.begin(), lowest_.end());
+    const Entry top = lowest_.back();
+    lowest_.pop_back();
+    --size_;
     return top;
   }
 
  private:
-  static constexpr std::size_t kArity = 4;
-  std::vector<Entry> entries_;
+  std::size_t bucketOf(double priority) const {
+    return std::size_t(std::max(0.0, priority / width_));
+  }
+  double width_;
+  std::size_t current_ = 0;
+  std::size_t size_ = 0;
+  std::vector<Entry> lowest_;
+  std::vector<std::vector<Entry>> later_;
 };
 
 double wrapHalfTurn(double yaw) {
@@ -426,7 +429,8 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
     }
   std::vector<double> cost(states, std::numeric_limits<double>::infinity());
   std::vector<std::int32_t> previous(states, -1);
-  QueueOfStates queue;
+  // Buckets a sixteenth of a cell of driving wide.
+  QueueOfStates queue(grid.resolution / 1);
   const std::int32_t start_cell =
       grid.inside(start.x(), start.y()) ? dense_cell[grid.index(start.x(), start.y())] : -1;
   if (start_cell < 0) {
