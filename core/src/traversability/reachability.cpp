@@ -430,7 +430,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   std::vector<double> cost(states, std::numeric_limits<double>::infinity());
   std::vector<std::int32_t> previous(states, -1);
   // Buckets a sixteenth of a cell of driving wide.
-  QueueOfStates queue(grid.resolution / 1);
+  QueueOfStates queue(grid.resolution / 16);
   const std::int32_t start_cell =
       grid.inside(start.x(), start.y()) ? dense_cell[grid.index(start.x(), start.y())] : -1;
   if (start_cell < 0) {
