@@ -348,10 +348,11 @@ bool FootprintTester::fitsEnlarged(int column, int row, int orientation) const {
   // Offsets nearer than the clearance are free: the distance transform vouches for them.
   const auto k = std::size_t(orientation);
   const std::uint8_t* here = strict_.data() + paddedIndex(column, row);
-  const std::vector<std::ptrdiff_t>& offsets = enlarged_[k];
-  for (std::size_t i = beyond(footprints_.enlarged[k], clearance(column, row)); i < offsets.size();
-       ++i)
-    if (here[offsets[i]]) return false;
+  // Bytes may alias anything: the bounds and steps are taken out of the vectors first.
+  const std::ptrdiff_t* steps = enlarged_[k].data();
+  const std::size_t count = enlarged_[k].size();
+  for (std::size_t i = beyond(footprints_.enlarged[k], clearance(column, row)); i < count; ++i)
+    if (here[steps[i]]) return false;
   return true;
 }
 
@@ -360,8 +361,9 @@ bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) co
   const auto k = std::size_t(orientation);
   const float lenient_clearance = lenientClearance(column, row);
   const std::uint8_t* here = lenient_.data() + paddedIndex(column, row);
-  const std::vector<std::ptrdiff_t>& core = core_[k];
-  for (std::size_t i = beyond(footprints_.core[k], lenient_clearance); i < core.size(); ++i)
+  const std::ptrdiff_t* core = core_[k].data();
+  const std::size_t core_count = core_[k].size();
+  for (std::size_t i = beyond(footprints_.core[k], lenient_clearance); i < core_count; ++i)
     if (here[core[i]]) return false;
   // What could touch the box, gathered once in the box's own frame (u along, v across), then
   // tried against the 5 x 5 centres a fifth of a cell apart, the cell's centre first.
@@ -385,8 +387,9 @@ bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) co
   };
   // Offsets nearer than the clearance are passable: the distance transform vouches for them.
   const std::vector<Offset>& rim = footprints_.rim[k];
-  const std::vector<std::ptrdiff_t>& rim_steps = rim_[k];
-  for (std::size_t i = beyond(rim, lenient_clearance); i < rim.size(); ++i) {
+  const std::ptrdiff_t* rim_steps = rim_[k].data();
+  const std::size_t rim_count = rim.size();
+  for (std::size_t i = beyond(rim, lenient_clearance); i < rim_count; ++i) {
     const std::uint8_t code = here[rim_steps[i]];
     if (code == 0) continue;
     const int cc = column + rim[i].dx, rr = row + rim[i].dy;
