@@ -261,6 +261,9 @@ Placement placePlainly(const TraversabilityMap& produced, const CellClasses& cla
 struct Case {
   const char* scene;
   double robot_width;
+  // Uniform orientations tried; over 64 (with the walls' own) the search goes a pose at a time
+  // instead of a word of orientations per cell.
+  int orientations = 12;
 };
 
 class TraversabilityAgainstReference : public ::testing::TestWithParam<Case> {};
@@ -268,6 +271,7 @@ class TraversabilityAgainstReference : public ::testing::TestWithParam<Case> {};
 TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePlainTests) {
   SegmentationParams params;
   params.robot.width = GetParam().robot_width;
+  params.map.orientations = GetParam().orientations;
   const auto run = test::simulateAndSegment(GetParam().scene, 150, params);
   ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
   const ScanAnalysis& analysis = run.result.analysis;
@@ -342,11 +346,13 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
 
 INSTANTIATE_TEST_SUITE_P(PeersTableScenes, TraversabilityAgainstReference,
                          ::testing::Values(Case{"garage", 0.85}, Case{"garage", 0.95},
-                                           Case{"hallway", 0.85}, Case{"doorways", 0.85}),
+                                           Case{"hallway", 0.85}, Case{"doorways", 0.85},
+                                           Case{"garage", 0.85, 66}),
                          [](const ::testing::TestParamInfo<Case>& param_info) {
-                           return std::string(param_info.param.scene) + "_" +
-                                  std::to_string(
-                                      int(std::lround(param_info.param.robot_width * 100)));
+                           const Case& c = param_info.param;
+                           return std::string(c.scene) + "_" +
+                                  std::to_string(int(std::lround(c.robot_width * 100))) + "_" +
+                                  std::to_string(c.orientations) + "_orientations";
                          });
 
 }  // namespace
