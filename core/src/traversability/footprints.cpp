@@ -15,6 +15,12 @@ namespace {
 // Gaps up to this wide between blocked cells are taken as closed (sparse wall sampling) [m].
 constexpr double kWallGapBridge = 0.3;
 
+// OpenCV's 8-bit masks: a set pixel.
+constexpr std::uint8_t kMaskSet = 255;
+// The clearance is the distance transform less this [cells]: its 5 x 5 mask is within a few per
+// cent of the exact distance, and the one cell less keeps every use conservative.
+constexpr float kClearanceMarginCells = 1.0F;
+
 // Rounding allowance of the exact test's cell bounds [m]: far below any distance that matters,
 // far above the rounding of a coordinate of a few tens of metres.
 constexpr double kBoundsSlack = 1e-9;
@@ -80,7 +86,7 @@ struct Range {
 std::vector<float> distancesLessOneCell(const cv::Mat& free_mask) {
   cv::Mat distance;
   cv::distanceTransform(free_mask, distance, cv::DIST_L2, cv::DIST_MASK_5);
-  distance -= 1.0F;
+  distance -= kClearanceMarginCells;
   std::vector<float> values(std::size_t(distance.rows) * std::size_t(distance.cols));
   for (int row = 0; row < distance.rows; ++row)
     std::memcpy(values.data() + std::size_t(row) * std::size_t(distance.cols),
@@ -146,7 +152,7 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
     for (int row = 0; row < grid.height; ++row)
       for (int column = 0; column < grid.width; ++column)
         mask.at<std::uint8_t>(row, column) =
-            predicate(classes.state[grid.index(column, row)]) ? 255 : 0;
+            predicate(classes.state[grid.index(column, row)]) ? kMaskSet : 0;
     return mask;
   };
   const cv::Mat observed = maskOf([](CellState s) { return s != CellState::kUnknown; });
@@ -184,12 +190,12 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
     for (int column = 0; column < grid.width; ++column) {
       const CellState state = classes.state[grid.index(column, row)];
       free_mask.at<std::uint8_t>(row, column) =
-          state == CellState::kGround || state == CellState::kLowObstacle ? 255 : 0;
+          state == CellState::kGround || state == CellState::kLowObstacle ? kMaskSet : 0;
     }
   lenient_mask = free_mask.clone();
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column)
-      if (tolerated[grid.index(column, row)]) lenient_mask.at<std::uint8_t>(row, column) = 255;
+      if (tolerated[grid.index(column, row)]) lenient_mask.at<std::uint8_t>(row, column) = kMaskSet;
   // The two distance transforms side by side.
   parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t which = begin; which < end; ++which)
