@@ -30,9 +30,8 @@ using detail::makeFootprints;
 // `map` (whose grid is set).
 // With `reach_into`, also searches where the robot can get from its own pose (map.robot_pose),
 // with this placement's tests, into that map's reach layer.
-void placeRobot(const CellClasses& classes, const RobotParams& robot, const MapParams& params,
+void placeRobot(const CellClasses& classes, const Footprints& footprints, const RobotParams& robot,
                 int threads, TraversabilityMap& map, TraversabilityMap* reach_into = nullptr) {
-  const Footprints footprints = makeFootprints(robot, params.resolution, map.yaws, threads);
   const std::size_t orientations = map.yaws.size();
   const FootprintTester tester(map.grid, classes, detail::toleratedUnknownCells(classes, map.grid),
                                footprints, robot, threads);
@@ -202,7 +201,16 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   map.robot_pose = robotPoseOnMap(analysis, robot, map.yaws);
   map.robot_orientation = detail::orientationIndex(map.yaws, map.robot_pose.yaw);
 
-  const CellClasses classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose);
+  // The cells' classes and the box's footprints (which need only the orientations) side by side.
+  CellClasses classes;
+  Footprints footprints;
+  detail::parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t part = begin; part < end; ++part)
+      if (part == 0)
+        classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose);
+      else
+        footprints = makeFootprints(robot, grid_params.resolution, map.yaws, 1);
+  });
   map.accepted_ground = classes.accepted_ground;
   reportProgress(progress, 0.3);
 
@@ -212,12 +220,12 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   const bool has_sparse =
       std::any_of(classes.sparse.begin(), classes.sparse.end(), [](std::uint8_t s) { return s; });
   if (!has_sparse) {
-    placeRobot(classes, robot, grid_params, threads, map, &map);
+    placeRobot(classes, footprints, robot, threads, map, &map);
   } else {
     TraversabilityMap loose = map;
     // The robot may drive over sparse ground with care: reachability uses the loose placement.
-    placeRobot(classes, robot, grid_params, threads, loose, &map);
-    placeRobot(detail::withSparseBlocked(classes), robot, grid_params, threads, map);
+    placeRobot(classes, footprints, robot, threads, loose, &map);
+    placeRobot(detail::withSparseBlocked(classes), footprints, robot, threads, map);
     auto fits = [](std::uint8_t label) {
       return label == std::uint8_t(CellLabel::kTraversable) ||
              label == std::uint8_t(CellLabel::kCareful) ||
