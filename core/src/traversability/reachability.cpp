@@ -9,12 +9,12 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <queue>
 
-#include "../segmentation/parallel.h"
 #include "clearway/traversability/traversability_map.h"
 #include "reachability_search.h"
 
@@ -27,9 +27,6 @@ constexpr double kPi = std::numbers::pi;
 // margin where it can; each turn step costs as much as this much straight driving [m].
 constexpr double kCarefulCostFactor = 3.0;
 constexpr double kTurnCost = 0.05;
-// Rings of the reachability search smaller than this are tested on one thread (handing a few
-// states to the pool costs more than testing them).
-constexpr std::size_t kParallelRing = 64;
 // Offsets of the scanner on the robot tried when no pose places the robot [m].
 constexpr double kMountSearchStep = 0.1;
 // One blocking return inside the box outweighs this many unobserved cells under it.
@@ -39,6 +36,60 @@ constexpr int kPathPoseEvery = 10;
 
 constexpr int kNeighbourColumns[8] = {1, -1, 0, 0, 1, 1, -1, -1};
 constexpr int kNeighbourRows[8] = {0, 0, 1, -1, 1, -1, 1, -1};
+
+// The A* queue of (priority, state), ordered like std::priority_queue with std::greater on the
+// pair (equal priorities by state), so states leave in exactly that order. Priorities fall into
+// buckets `width` wide: only the lowest bucket is kept as a heap (a few dozen entries), the later
+// ones are plain lists heaped when their turn comes. An entry below the lowest bucket (rounding)
+// joins its heap, where it still leaves first.
+class QueueOfStates {
+ public:
+  struct Entry {
+    double priority;
+    std::size_t state;
+    // std::*_heap keep the largest on top: the greater entry is the lesser here.
+    bool operator<(const Entry& other) const {
+      return priority > other.priority || (priority == other.priority && state > other.state);
+    }
+  };
+  explicit QueueOfStates(double width) : width_(width) {}
+  bool empty() const { return size_ == 0; }
+  void push(Entry entry) {
+    ++size_;
+    const std::size_t bucket = bucketOf(entry.priority);
+    if (bucket <= current_) {
+      lowest_.push_back(entry);
+      std::push_heap(lowest_.begin(), lowest_.end());
+      return;
+    }
+    if (bucket >= later_.size()) later_.resize(bucket + 1);
+    later_[bucket].push_back(entry);
+  }
+  Entry pop() {
+    while (lowest_.empty()) {
+      ++current_;
+      if (current_ < later_.size()) {
+        lowest_.swap(later_[current_]);
+        std::make_heap(lowest_.begin(), lowest_.end());
+      }
+    }
+    std::pop_heap(lowest_.begin(), lowest_.end());
+    const Entry top = lowest_.back();
+    lowest_.pop_back();
+    --size_;
+    return top;
+  }
+
+ private:
+  std::size_t bucketOf(double priority) const {
+    return std::size_t(std::max(0.0, priority / width_));
+  }
+  double width_;
+  std::size_t current_ = 0;
+  std::size_t size_ = 0;
+  std::vector<Entry> lowest_;
+  std::vector<std::vector<Entry>> later_;
+};
 
 double wrapHalfTurn(double yaw) {
   yaw = std::fmod(yaw, kPi);
@@ -145,8 +196,119 @@ std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws) {
   return neighbours;
 }
 
-void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt,
-                     int threads) {
+namespace {
+
+// Up to this many orientations, a cell's poses are the bits of one word.
+constexpr std::size_t kMaskBits = 64;
+
+// The same search a word at a time: bit b of a cell's masks is the b-th orientation by angle, so
+// turning to the next tried orientation on either side is a one-bit rotation; a cell hands the
+// orientations it has reached to its neighbours with one AND. The same states are reached and
+// met as one pose at a time (map.pose_fit is only written for the states met).
+void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits,
+                   const Eigen::Vector2i& start) {
+  using Mask = std::uint64_t;
+  const MapGrid& grid = map.grid;
+  const std::size_t orientations = map.yaws.size();
+  std::vector<int> by_angle(orientations);  // orientation of each bit
+  for (std::size_t k = 0; k < orientations; ++k)
+    by_angle[k] = int(k);
+  std::stable_sort(by_angle.begin(), by_angle.end(), [&](int a, int b) {
+    return wrapHalfTurn(map.yaws[std::size_t(a)]) < wrapHalfTurn(map.yaws[std::size_t(b)]);
+  });
+  std::vector<int> bit_of(orientations);
+  for (std::size_t b = 0; b < orientations; ++b)
+    bit_of[std::size_t(by_angle[b])] = int(b);
+  const Mask all = orientations == kMaskBits ? ~Mask{0} : (Mask{1} << orientations) - 1;
+  // The orientations one turn away from any of `m`'s (none with a single orientation).
+  auto turned = [&](Mask m) -> Mask {
+    if (orientations < 2) return 0;
+    const Mask up = ((m << 1) | (m >> (orientations - 1))) & all;
+    const Mask down = ((m >> 1) | (m << (orientations - 1))) & all;
+    return up | down;
+  };
+  // `m` and every orientation of `open` it can turn to, step by step.
+  auto closeTurns = [&](Mask m, Mask open) {
+    for (;;) {
+      const Mask grown = m | (turned(m) & open);
+      if (grown == m) return m;
+      m = grown;
+    }
+  };
+  const std::size_t cells = grid.cells();
+  // The orientations the box fits in, per cell, worked out when the search first looks there.
+  std::vector<Mask> open(cells, 0), reached(cells, 0);
+  std::vector<std::uint8_t> opened(cells, 0);
+  auto openAt = [&](std::size_t cell) {
+    if (!opened[cell]) {
+      opened[cell] = 1;
+      const std::uint8_t* fits = pose_fits.data() + cell * orientations;
+      Mask m = 0;
+      for (std::size_t k = 0; k < orientations; ++k)
+        if (fits[k] != std::uint8_t(PoseFit::kBlocked)) m |= Mask{1} << bit_of[k];
+      open[cell] |= m;
+    }
+    return open[cell];
+  };
+  // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
+  // off its exact position, touch something just outside its box.
+  const std::size_t start_cell = grid.index(start.x(), start.y());
+  const Mask start_bit = Mask{1} << bit_of[std::size_t(map.robot_orientation)];
+  open[start_cell] = start_bit;
+  reached[start_cell] = closeTurns(start_bit, openAt(start_cell));
+  // Cells whose reached orientations grew and are still to be handed on, first in first out (a
+  // cell is then rarely handed on twice), each queued at most once at a time.
+  std::vector<std::uint32_t> work = {std::uint32_t(start_cell)};
+  std::vector<std::uint8_t> in_work(cells, 0);
+  in_work[start_cell] = 1;
+  for (std::size_t head = 0; head < work.size(); ++head) {
+    const std::size_t cell = work[head];
+    in_work[cell] = 0;
+    const int row = int(cell / std::size_t(grid.width));
+    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
+    const Mask here = reached[cell];
+    for (int n = 0; n < 8; ++n) {
+      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
+      if (!grid.inside(c, r)) continue;
+      const std::size_t next = grid.index(c, r);
+      const Mask arriving = here & ~reached[next] & openAt(next);
+      if (!arriving) continue;
+      reached[next] = closeTurns(reached[next] | arriving, open[next]);
+      if (!in_work[next]) {
+        in_work[next] = 1;
+        work.push_back(std::uint32_t(next));
+      }
+    }
+  }
+  // Met: every reached pose's neighbours in its heading and its turns, each given its fit.
+  std::vector<Mask> met(cells, 0);
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    const Mask here = reached[cell];
+    if (!here) continue;
+    map.reach[cell] = 1;
+    ++map.reachable_cells;
+    met[cell] |= here | turned(here);
+    const int row = int(cell / std::size_t(grid.width));
+    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
+    for (int n = 0; n < 8; ++n) {
+      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
+      if (grid.inside(c, r)) met[grid.index(c, r)] |= here;
+    }
+  }
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    for (Mask m = met[cell]; m; m &= m - 1) {
+      const std::size_t state =
+          cell * orientations + std::size_t(by_angle[std::size_t(std::countr_zero(m))]);
+      map.pose_fit[state] = pose_fits[state];
+    }
+  const std::size_t start_state = start_cell * orientations + std::size_t(map.robot_orientation);
+  if (map.pose_fit[start_state] == std::uint8_t(PoseFit::kBlocked))
+    map.pose_fit[start_state] = std::uint8_t(PoseFit::kCareful);
+}
+
+}  // namespace
+
+void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits) {
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();
   map.reach.assign(grid.cells(), 0);
@@ -154,61 +316,61 @@ void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, in
   map.reachable_cells = 0;
   const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
   if (orientations == 0 || map.robot_orientation < 0 || !grid.inside(start.x(), start.y())) return;
+  if (orientations <= kMaskBits) {
+    searchByMasks(map, pose_fits, start);
+    return;
+  }
   const std::vector<std::vector<int>> turns = turnNeighbours(map.yaws);
-  // Breadth first, one ring of states at a time: the fits of a ring's new states are tested in
-  // parallel (each state once, each into its own memo slot), then the ones that fit are entered.
-  std::vector<std::uint8_t> queued(grid.cells() * orientations, 0);
+  // Breadth first; every state met gets its fit recorded once (a state's fit is its own, so the
+  // order of the search changes nothing). States travel with their column, row and orientation:
+  // no division to recover them.
+  struct Pose {
+    int column, row, k;
+  };
   auto stateOf = [&](int column, int row, int k) {
     return grid.index(column, row) * orientations + std::size_t(k);
   };
-  auto fitOf = [&](std::size_t state) {
-    const std::size_t cell = state / orientations;
-    return fitAt(int(cell % std::size_t(grid.width)), int(cell / std::size_t(grid.width)),
-                 int(state % orientations));
-  };
-  const std::size_t first = stateOf(start.x(), start.y(), map.robot_orientation);
-  queued[first] = 1;
+  // The eight neighbours' steps in the state array (same orientation).
+  std::array<std::ptrdiff_t, 8> neighbour_step{};
+  for (int n = 0; n < 8; ++n)
+    neighbour_step[std::size_t(n)] =
+        (std::ptrdiff_t(kNeighbourRows[n]) * grid.width + kNeighbourColumns[n]) *
+        std::ptrdiff_t(orientations);
+  std::vector<Pose> queue;
+  queue.reserve(std::size_t(map.reachable_cells) + 1024);
+  const Pose first{start.x(), start.y(), map.robot_orientation};
+  const std::size_t first_state = stateOf(first.column, first.row, first.k);
   // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
   // off its exact position, touch something just outside its box.
-  map.pose_fit[first] = std::uint8_t(fitOf(first));
-  if (map.pose_fit[first] == std::uint8_t(PoseFit::kBlocked))
-    map.pose_fit[first] = std::uint8_t(PoseFit::kCareful);
-  std::vector<std::size_t> ring = {first}, candidates;
-  while (!ring.empty()) {
-    for (const std::size_t state : ring) {
-      const std::size_t cell = state / orientations;
-      if (!map.reach[cell]) {
-        map.reach[cell] = 1;
-        ++map.reachable_cells;
-      }
+  map.pose_fit[first_state] = pose_fits[first_state] == std::uint8_t(PoseFit::kBlocked)
+                                  ? std::uint8_t(PoseFit::kCareful)
+                                  : pose_fits[first_state];
+  queue.push_back(first);
+  std::uint8_t* const met = map.pose_fit.data();
+  const std::uint8_t* const fits = pose_fits.data();
+  auto meet = [&](std::size_t state, int column, int row, int k) {
+    if (met[state] != std::uint8_t(PoseFit::kUntested)) return;
+    met[state] = fits[state];
+    if (fits[state] != std::uint8_t(PoseFit::kBlocked)) queue.push_back({column, row, k});
+  };
+  for (std::size_t next = 0; next < queue.size(); ++next) {
+    const Pose pose = queue[next];
+    const std::size_t cell = grid.index(pose.column, pose.row);
+    const std::size_t state = cell * orientations + std::size_t(pose.k);
+    if (!map.reach[cell]) {
+      map.reach[cell] = 1;
+      ++map.reachable_cells;
     }
-    candidates.clear();
-    for (const std::size_t state : ring) {
-      const std::size_t cell = state / orientations;
-      const int k = int(state % orientations);
-      const int column = int(cell % std::size_t(grid.width)),
-                row = int(cell / std::size_t(grid.width));
-      auto propose = [&](std::size_t next) {
-        if (queued[next]) return;
-        queued[next] = 1;
-        candidates.push_back(next);
-      };
-      for (int n = 0; n < 8; ++n) {
-        const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
-        if (grid.inside(c, r)) propose(stateOf(c, r, k));
-      }
-      for (int other : turns[std::size_t(k)])
-        propose(cell * orientations + std::size_t(other));
+    // Away from the map's edge every neighbour is inside: no bounds checks.
+    const bool inner = pose.column > 0 && pose.row > 0 && pose.column + 1 < grid.width &&
+                       pose.row + 1 < grid.height;
+    for (int n = 0; n < 8; ++n) {
+      const int c = pose.column + kNeighbourColumns[n], r = pose.row + kNeighbourRows[n];
+      if (inner || grid.inside(c, r))
+        meet(std::size_t(std::ptrdiff_t(state) + neighbour_step[std::size_t(n)]), c, r, pose.k);
     }
-    const int workers = candidates.size() >= kParallelRing ? threads : 1;
-    parallelChunks(candidates.size(), workers,
-                   [&](std::size_t begin, std::size_t end, std::size_t) {
-                     for (std::size_t i = begin; i < end; ++i)
-                       map.pose_fit[candidates[i]] = std::uint8_t(fitOf(candidates[i]));
-                   });
-    ring.clear();
-    for (const std::size_t state : candidates)
-      if (map.pose_fit[state] != std::uint8_t(PoseFit::kBlocked)) ring.push_back(state);
+    for (int other : turns[std::size_t(pose.k)])
+      meet(cell * orientations + std::size_t(other), pose.column, pose.row, other);
   }
 }
 
@@ -244,68 +406,94 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   const std::size_t orientations = map.yaws.size();
   const std::vector<std::vector<int>> turns = detail::turnNeighbours(map.yaws);
   const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
-  const std::size_t states = grid.cells() * orientations;
+  // A path only ever enters poses the reachability search found the box fits in, all in reachable
+  // cells: the search numbers those cells densely, in map order, so its arrays stay small enough
+  // for the caches (a few per cent of the map's states) and its queue keeps the same order.
+  std::vector<std::int32_t> dense_cell(grid.cells(), -1);
+  std::vector<std::size_t> cell_of;  // the map cell of each dense cell
+  cell_of.reserve(map.reachable_cells);
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+    if (map.reach[cell]) {
+      dense_cell[cell] = std::int32_t(cell_of.size());
+      cell_of.push_back(cell);
+    }
+  const std::size_t states = cell_of.size() * orientations;
+  // The step cost factor of each pose: 1 green, kCarefulCostFactor orange, 0 where it cannot go.
+  std::vector<double> factor(states, 0.0);
+  for (std::size_t d = 0; d < cell_of.size(); ++d)
+    for (std::size_t k = 0; k < orientations; ++k) {
+      const auto fit = PoseFit(map.pose_fit[cell_of[d] * orientations + k]);
+      factor[d * orientations + k] = fit == PoseFit::kClear     ? 1.0
+                                     : fit == PoseFit::kCareful ? kCarefulCostFactor
+                                                                : 0.0;
+    }
   std::vector<double> cost(states, std::numeric_limits<double>::infinity());
-  std::vector<std::int64_t> previous(states, -1);
-  using Entry = std::pair<double, std::size_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  std::vector<std::int32_t> previous(states, -1);
+  // Buckets a sixteenth of a cell of driving wide.
+  QueueOfStates queue(grid.resolution / 16);
+  const std::int32_t start_cell =
+      grid.inside(start.x(), start.y()) ? dense_cell[grid.index(start.x(), start.y())] : -1;
+  if (start_cell < 0) {
+    result.reason = "the robot's own place is not on the map";
+    return result;
+  }
   const std::size_t first =
-      grid.index(start.x(), start.y()) * orientations + std::size_t(map.robot_orientation);
+      std::size_t(start_cell) * orientations + std::size_t(map.robot_orientation);
   // A*: the straight-line distance to the goal never overestimates (green costs 1 per metre, turns
   // cost more than nothing), so the first time the goal leaves the queue its path is cheapest.
   const Eigen::Vector2d goal_centre = grid.centre(goal.x(), goal.y());
-  auto remaining = [&](std::size_t cell) {
-    const int column = int(cell % std::size_t(grid.width)),
-              row = int(cell / std::size_t(grid.width));
-    return (grid.centre(column, row) - goal_centre).norm();
-  };
+  std::vector<double> remaining(cell_of.size());  // the heuristic per dense cell
+  for (std::size_t d = 0; d < cell_of.size(); ++d) {
+    const int row = int(cell_of[d] / std::size_t(grid.width));
+    const int column = int(cell_of[d] - std::size_t(row) * std::size_t(grid.width));
+    remaining[d] = (grid.centre(column, row) - goal_centre).norm();
+  }
   cost[first] = 0.0;
-  queue.push({remaining(first / orientations), first});
-  auto passable = [&](std::size_t state) {
-    const auto f = PoseFit(map.pose_fit[state]);
-    return f == PoseFit::kClear || f == PoseFit::kCareful;
-  };
+  queue.push({remaining[std::size_t(start_cell)], first});
   std::int64_t reached = -1;
   while (!queue.empty()) {
-    const auto [priority, state] = queue.top();
-    queue.pop();
-    const std::size_t cell = state / orientations;
+    const auto [priority, state] = queue.pop();
+    const std::size_t dense = state / orientations;
+    const int k = int(state - dense * orientations);
+    const std::size_t cell = cell_of[dense];
+    const int row = int(cell / std::size_t(grid.width));
+    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
     const double here_cost = cost[state];
-    if (priority > here_cost + remaining(cell) + 1e-9) continue;  // a stale entry
-    const int k = int(state % orientations);
+    const double here_remaining = remaining[dense];
+    if (priority > here_cost + here_remaining + 1e-9) continue;  // a stale entry
     if (cell == goal_cell) {
       reached = std::int64_t(state);
       break;
     }
-    const int column = int(cell % std::size_t(grid.width)),
-              row = int(cell / std::size_t(grid.width));
-    auto relax = [&](std::size_t next, double step) {
-      if (!passable(next)) return;
-      const double factor =
-          PoseFit(map.pose_fit[next]) == PoseFit::kCareful ? kCarefulCostFactor : 1.0;
-      const double next_cost = here_cost + step * factor;
+    auto relax = [&](std::size_t next, double next_remaining, double step) {
+      if (factor[next] == 0.0) return;
+      const double next_cost = here_cost + step * factor[next];
       if (next_cost < cost[next]) {
         cost[next] = next_cost;
-        previous[next] = std::int64_t(state);
-        queue.push({next_cost + remaining(next / orientations), next});
+        previous[next] = std::int32_t(state);
+        queue.push({next_cost + next_remaining, next});
       }
     };
     for (int n = 0; n < 8; ++n) {
       const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
       if (!grid.inside(c, r)) continue;
+      const std::int32_t next_cell = dense_cell[grid.index(c, r)];
+      if (next_cell < 0) continue;  // not reachable: no pose there fits
       const double step = grid.resolution * (n < 4 ? 1.0 : std::numbers::sqrt2);
-      relax(grid.index(c, r) * orientations + std::size_t(k), step);
+      relax(std::size_t(next_cell) * orientations + std::size_t(k),
+            remaining[std::size_t(next_cell)], step);
     }
     for (int other : turns[std::size_t(k)])
-      relax(cell * orientations + std::size_t(other), kTurnCost);
+      relax(dense * orientations + std::size_t(other), here_remaining, kTurnCost);
   }
   if (reached < 0) {
     result.reason = "no path found to the goal";
     return result;
   }
-  std::vector<std::size_t> chain;
+  std::vector<std::size_t> chain;  // map states: cell * orientations + k
   for (std::int64_t s = reached; s >= 0; s = previous[std::size_t(s)])
-    chain.push_back(std::size_t(s));
+    chain.push_back(cell_of[std::size_t(s) / orientations] * orientations +
+                    std::size_t(s) % orientations);
   std::reverse(chain.begin(), chain.end());
   result.reachable = true;
   int since_kept = 0;

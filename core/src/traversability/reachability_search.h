@@ -3,7 +3,7 @@
 // The reachability search, for computeTraversability: it owns the footprint tests, this owns the
 // search over (cell, orientation) states.
 
-#include <functional>
+#include <cstdint>
 #include <vector>
 
 #include "clearway/traversability/reachability.h"
@@ -15,9 +15,8 @@ namespace clearway::detail {
 std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws);
 
 // Fills map.reach, map.reachable_cells and map.pose_fit from the robot's pose
-// (map.robot_pose, map.robot_orientation); fitAt(column, row, k) tests one pose and is called
-// from `threads` threads at once.
-void searchReachable(TraversabilityMap& map, const std::function<PoseFit(int, int, int)>& fitAt,
-                     int threads);
+// (map.robot_pose, map.robot_orientation), given the fit of every pose (PoseFit per
+// cell * map.yaws.size() + k; kBlocked wherever the box does not fit or the cell is not free).
+void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits);
 
 }  // namespace clearway::detail

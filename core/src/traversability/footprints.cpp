@@ -1,0 +1,420 @@
+#include "footprints.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <opencv2/imgproc.hpp>
+
+#include "../segmentation/parallel.h"
+
+namespace clearway::detail {
+namespace {
+
+// Gaps up to this wide between blocked cells are taken as closed (sparse wall sampling) [m].
+constexpr double kWallGapBridge = 0.3;
+
+// OpenCV's 8-bit masks: a set pixel.
+constexpr std::uint8_t kMaskSet = 255;
+// The clearance is the distance transform less this [cells]: its 5 x 5 mask is within a few per
+// cent of the exact distance, and the one cell less keeps every use conservative.
+constexpr float kClearanceMarginCells = 1.0F;
+
+// Rounding allowance of the exact test's cell bounds [m]: far below any distance that matters,
+// far above the rounding of a coordinate of a few tens of metres.
+constexpr double kBoundsSlack = 1e-9;
+
+// Integer cell offsets whose centres lie in a rectangle of half sizes (along, across) [cells]
+// turned by yaw, outermost last.
+std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const int reach = int(std::ceil(std::hypot(along, across)));
+  std::vector<Offset> offsets;
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx)
+      if (std::abs(dx * c + dy * s) <= along && std::abs(-dx * s + dy * c) <= across)
+        offsets.push_back({dx, dy, float(dx * dx + dy * dy)});
+  // Sorted by squared radius (exact integers), then turned into radii.
+  std::sort(offsets.begin(), offsets.end(),
+            [](const Offset& a, const Offset& b) { return a.radius < b.radius; });
+  for (Offset& o : offsets)
+    o.radius = std::sqrt(o.radius);
+  return offsets;
+}
+
+// The offsets of `outer` that are not in `inner` (both from rectangleOffsets), still sorted.
+std::vector<Offset> ringOffsets(const std::vector<Offset>& outer,
+                                const std::vector<Offset>& inner) {
+  int reach = 0;
+  for (const Offset& o : outer)
+    reach = std::max({reach, std::abs(o.dx), std::abs(o.dy)});
+  const int side = 2 * reach + 1;
+  std::vector<std::uint8_t> in_inner(std::size_t(side * side), 0);
+  for (const Offset& o : inner)
+    if (std::abs(o.dx) <= reach && std::abs(o.dy) <= reach)
+      in_inner[std::size_t((o.dy + reach) * side + o.dx + reach)] = 1;
+  std::vector<Offset> ring;
+  for (const Offset& o : outer)
+    if (!in_inner[std::size_t((o.dy + reach) * side + o.dx + reach)]) ring.push_back(o);
+  return ring;
+}
+
+// Offsets are sorted by radius: the index of the first one at or beyond `radius`.
+std::size_t beyond(const std::vector<Offset>& offsets, float radius) {
+  return std::size_t(std::lower_bound(offsets.begin(), offsets.end(), radius,
+                                      [](const Offset& o, float r) { return o.radius < r; }) -
+                     offsets.begin());
+}
+
+// Two points whose projections on an axis are closer than this are both kept as the extreme [m]:
+// far above the rounding of a coordinate of a few tens of metres, far below any distance that
+// matters.
+constexpr double kTieTolerance = 1e-9;
+
+// The range of a + b over a in [a0, a1], b in [b0, b1] (ends in any order). Rounding is monotone,
+// so a + b computed for any a and b in there lies in the computed range.
+struct Range {
+  double low, high;
+  Range(double a0, double a1, double b0, double b1)
+      : low(std::min(a0, a1) + std::min(b0, b1)), high(std::max(a0, a1) + std::max(b0, b1)) {}
+  double smallestMagnitude() const { return low > 0 ? low : (high < 0 ? -high : 0.0); }
+  double largestMagnitude() const { return std::max(-low, high); }
+  bool oneSign() const { return low > 0 || high < 0; }
+};
+
+std::vector<float> distancesLessOneCell(const cv::Mat& free_mask) {
+  cv::Mat distance;
+  cv::distanceTransform(free_mask, distance, cv::DIST_L2, cv::DIST_MASK_5);
+  distance -= kClearanceMarginCells;
+  std::vector<float> values(std::size_t(distance.rows) * std::size_t(distance.cols));
+  for (int row = 0; row < distance.rows; ++row)
+    std::memcpy(values.data() + std::size_t(row) * std::size_t(distance.cols),
+                distance.ptr<float>(row), std::size_t(distance.cols) * sizeof(float));
+  return values;
+}
+
+}  // namespace
+
+int orientationIndex(std::vector<double>& yaws, double yaw) {
+  yaw = std::fmod(std::fmod(yaw, std::numbers::pi) + std::numbers::pi, std::numbers::pi);
+  for (std::size_t k = 0; k < yaws.size(); ++k) {
+    const double difference = std::abs(yaws[k] - yaw);
+    if (std::min(difference, std::numbers::pi - difference) < kSameYaw) return int(k);
+  }
+  if (yaws.size() >= kMaxOrientations) return -1;
+  yaws.push_back(yaw);
+  return int(yaws.size()) - 1;
+}
+
+std::vector<double> orientationsToTry(const ScanAnalysis& analysis, int uniform) {
+  std::vector<double> yaws;
+  for (int k = 0; k < uniform; ++k)
+    yaws.push_back(std::numbers::pi * k / uniform);
+  const Eigen::Matrix3d rotation = analysis.map_from_scanner.linear();
+  for (const Plane& plane : analysis.planes.planes) {
+    if (plane.kind != PlaneKind::kWall) continue;
+    const Eigen::Vector3d normal = rotation * plane.normal;
+    if (normal.head<2>().norm() < kStandingWallNormal) continue;
+    const double along_normal = std::atan2(normal.y(), normal.x());
+    for (double yaw : {along_normal, along_normal + std::numbers::pi / 2})
+      orientationIndex(yaws, yaw);
+  }
+  return yaws;
+}
+
+Footprints makeFootprints(const RobotParams& robot, double resolution,
+                          const std::vector<double>& yaws, int threads) {
+  Footprints f;
+  const double along = robot.length / 2 / resolution, across = robot.width / 2 / resolution;
+  f.yaw = yaws;
+  f.enlarged.resize(yaws.size());
+  f.core.resize(yaws.size());
+  f.rim.resize(yaws.size());
+  parallelChunks(yaws.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t k = begin; k < end; ++k) {
+      f.enlarged[k] =
+          rectangleOffsets(along + kGreenMarginCells, across + kGreenMarginCells, yaws[k]);
+      f.core[k] = rectangleOffsets(std::max(0.0, along - kCoreInsetCells),
+                                   std::max(0.0, across - kCoreInsetCells), yaws[k]);
+      f.rim[k] = ringOffsets(
+          rectangleOffsets(along + kRimReachCells, across + kRimReachCells, yaws[k]), f.core[k]);
+    }
+  });
+  f.inner_radius = across;
+  f.outer_radius = std::hypot(along + kGreenMarginCells, across + kGreenMarginCells);
+  return f;
+}
+
+std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid) {
+  auto maskOf = [&](auto predicate) {
+    cv::Mat mask(grid.height, grid.width, CV_8UC1);
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column)
+        mask.at<std::uint8_t>(row, column) =
+            predicate(classes.state[grid.index(column, row)]) ? kMaskSet : 0;
+    return mask;
+  };
+  const cv::Mat observed = maskOf([](CellState s) { return s != CellState::kUnknown; });
+  const cv::Mat blocked_mask = maskOf([](CellState s) { return s == CellState::kBlocked; });
+  const int size = 2 * int(std::ceil(kWallGapBridge / grid.resolution)) + 1;
+  cv::Mat enclosed;
+  cv::morphologyEx(blocked_mask, enclosed, cv::MORPH_CLOSE,
+                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)));
+  std::vector<std::uint8_t> tolerated(grid.cells(), 0);
+  for (int row = 1; row + 1 < grid.height; ++row)
+    for (int column = 1; column + 1 < grid.width; ++column) {
+      if (observed.at<std::uint8_t>(row, column) || enclosed.at<std::uint8_t>(row, column))
+        continue;
+      auto seen = [&](int dc, int dr) {
+        return observed.at<std::uint8_t>(row + dr, column + dc) != 0;
+      };
+      if ((seen(-1, 0) && seen(1, 0)) || (seen(0, -1) && seen(0, 1)) ||
+          (seen(-1, -1) && seen(1, 1)) || (seen(-1, 1) && seen(1, -1)))
+        tolerated[grid.index(column, row)] = 1;
+    }
+  return tolerated;
+}
+
+FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes,
+                                 const std::vector<std::uint8_t>& tolerated,
+                                 const Footprints& footprints, const RobotParams& robot,
+                                 int threads)
+    : grid_(grid), classes_(classes), footprints_(footprints) {
+  half_length_ = robot.length / 2;
+  half_width_ = robot.width / 2;
+  step_ = grid.resolution / kCentresPerAxis;
+
+  cv::Mat free_mask(grid.height, grid.width, CV_8UC1), lenient_mask;
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const CellState state = classes.state[grid.index(column, row)];
+      free_mask.at<std::uint8_t>(row, column) =
+          state == CellState::kGround || state == CellState::kLowObstacle ? kMaskSet : 0;
+    }
+  lenient_mask = free_mask.clone();
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column)
+      if (tolerated[grid.index(column, row)]) lenient_mask.at<std::uint8_t>(row, column) = kMaskSet;
+  // The two distance transforms side by side.
+  parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t which = begin; which < end; ++which)
+      (which == 0 ? clearance_ : lenient_clearance_) =
+          distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
+  });
+
+  for (const auto* lists : {&footprints.enlarged, &footprints.rim})
+    for (const auto& offsets : *lists)
+      for (const Offset& o : offsets)
+        pad_ = std::max({pad_, std::abs(o.dx), std::abs(o.dy)});
+  stride_ = grid.width + 2 * pad_;
+  const std::size_t padded = std::size_t(stride_) * std::size_t(grid.height + 2 * pad_);
+  strict_.assign(padded, 1);
+  lenient_.assign(padded, 2);
+  point_bounds_.resize(grid.cells());
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row), here = paddedIndex(column, row);
+      const CellState state = classes.state[cell];
+      strict_[here] = state == CellState::kBlocked || state == CellState::kUnknown;
+      if (state == CellState::kBlocked) {
+        lenient_[here] = classes.blocked_by_points_only[cell] ? 1 : 2;
+      } else if (state == CellState::kUnknown) {
+        lenient_[here] = tolerated[cell] ? 0 : 2;
+      } else {
+        lenient_[here] = 0;
+      }
+      const std::uint32_t first = classes.point_start[cell], last = classes.point_start[cell + 1];
+      if (first == last) continue;
+      PointBounds& bounds = point_bounds_[cell];
+      bounds.min_x = bounds.max_x = classes.xs[first];
+      bounds.min_y = bounds.max_y = classes.ys[first];
+      for (std::uint32_t p = first + 1; p < last; ++p) {
+        bounds.min_x = std::min(bounds.min_x, double(classes.xs[p]));
+        bounds.max_x = std::max(bounds.max_x, double(classes.xs[p]));
+        bounds.min_y = std::min(bounds.min_y, double(classes.ys[p]));
+        bounds.max_y = std::max(bounds.max_y, double(classes.ys[p]));
+      }
+    }
+  first_slot_.assign(grid.cells(), kNoPoints);
+  std::size_t slots = 0;
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+    if (classes.point_start[cell] != classes.point_start[cell + 1]) {
+      first_slot_[cell] = std::uint32_t(slots);
+      slots += footprints.yaw.size();
+    }
+  extremes_.resize(slots);
+  slot_state_ = std::make_unique<std::atomic<std::uint8_t>[]>(slots);  // all kSlotEmpty
+  auto linear = [&](const std::vector<std::vector<Offset>>& lists) {
+    std::vector<std::vector<std::ptrdiff_t>> result;
+    for (const auto& offsets : lists) {
+      result.emplace_back();
+      for (const Offset& o : offsets)
+        result.back().push_back(std::ptrdiff_t(o.dy) * stride_ + o.dx);
+    }
+    return result;
+  };
+  enlarged_ = linear(footprints.enlarged);
+  core_ = linear(footprints.core);
+  rim_ = linear(footprints.rim);
+
+  // The 5 x 5 centres, the cell's centre first, then outwards.
+  static constexpr int kOrder[kCentresPerAxis] = {0, -1, 1, -2, 2};
+  for (const double yaw : footprints.yaw) {
+    Turn turn;
+    turn.c = std::cos(yaw);
+    turn.s = std::sin(yaw);
+    turn.shift = 2 * step_ * (std::abs(turn.c) + std::abs(turn.s));
+    std::size_t i = 0;
+    for (int sy : kOrder)
+      for (int sx : kOrder) {
+        turn.du[i] = (sx * turn.c + sy * turn.s) * step_;
+        turn.dv[i] = (-sx * turn.s + sy * turn.c) * step_;
+        ++i;
+      }
+    turns_.push_back(turn);
+  }
+}
+
+const FootprintTester::Extremes* FootprintTester::extremes(std::size_t cell, std::size_t k) const {
+  const std::size_t slot = first_slot_[cell] + k;
+  std::atomic<std::uint8_t>& state = slot_state_[slot];
+  if (state.load(std::memory_order_acquire) == kSlotReady) return &extremes_[slot];
+  std::uint8_t expected = kSlotEmpty;
+  if (!state.compare_exchange_strong(expected, kSlotFilling, std::memory_order_acq_rel))
+    return state.load(std::memory_order_acquire) == kSlotReady ? &extremes_[slot] : nullptr;
+  const double c = turns_[k].c, s = turns_[k].s;
+  const std::uint32_t first = classes_.point_start[cell], last = classes_.point_start[cell + 1];
+  // One pass: the least and most projection on each axis, and the runners-up to tell ties.
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  std::array<double, 4> best, runner_up;  // -u, +u, -v, +v as values to minimise
+  best.fill(kInfinity);
+  runner_up.fill(kInfinity);
+  Extremes found{};
+  for (std::uint32_t p = first; p < last; ++p) {
+    const double x = classes_.xs[p], y = classes_.ys[p];
+    const double u = x * c + y * s, v = -x * s + y * c;
+    const std::array<double, 4> values = {u, -u, v, -v};
+    for (std::size_t e = 0; e < 4; ++e) {
+      if (values[e] < best[e]) {
+        runner_up[e] = best[e];
+        best[e] = values[e];
+        found[e] = p;
+      } else if (values[e] < runner_up[e]) {
+        runner_up[e] = values[e];
+      }
+    }
+  }
+  for (std::size_t e = 0; e < 4; ++e)
+    if (runner_up[e] - best[e] < kTieTolerance) found[e] = kSeveral;
+  extremes_[slot] = found;
+  state.store(kSlotReady, std::memory_order_release);
+  return &extremes_[slot];
+}
+
+template <typename Add>
+bool FootprintTester::addCellPoints(std::size_t cell, std::size_t k, const Eigen::Vector2d& centre,
+                                    Add&& add) const {
+  const std::uint32_t first = classes_.point_start[cell], last = classes_.point_start[cell + 1];
+  if (first == last) return true;
+  const Turn& turn = turns_[k];
+  const double c = turn.c, s = turn.s, shift = turn.shift;
+  // The cell's points as a whole, by their bounds in the box's frame.
+  const PointBounds& b = point_bounds_[cell];
+  const double x0 = b.min_x - centre.x(), x1 = b.max_x - centre.x();
+  const double y0 = b.min_y - centre.y(), y1 = b.max_y - centre.y();
+  const Range u(x0 * c, x1 * c, y0 * s, y1 * s), v(-x0 * s, -x1 * s, y0 * c, y1 * c);
+  // All beyond the box and its centres' reach: none would be gathered.
+  if (u.smallestMagnitude() >= half_length_ + shift + kBoundsSlack ||
+      v.smallestMagnitude() >= half_width_ + shift + kBoundsSlack)
+    return true;
+  // All deep inside it: the first one blocks every centre.
+  const bool u_inside = u.largestMagnitude() < half_length_ - shift - kBoundsSlack;
+  const bool v_inside = v.largestMagnitude() < half_width_ - shift - kBoundsSlack;
+  if (u_inside && v_inside) return false;
+  // All across one edge only (inside the other pair of edges for every centre, on one side of
+  // the box's axis): a point blocks a centre when it is nearer the axis than the edge, so the
+  // point nearest the axis blocks every centre any of them blocks. It stands for them all.
+  std::uint32_t only = kSeveral;
+  if (v_inside && u.oneSign()) {
+    if (const Extremes* e = extremes(cell, k)) only = (*e)[u.low > 0 ? kLeastU : kMostU];
+  } else if (u_inside && v.oneSign()) {
+    if (const Extremes* e = extremes(cell, k)) only = (*e)[v.low > 0 ? kLeastV : kMostV];
+  }
+  if (only != kSeveral) {
+    add(classes_.xs[only], classes_.ys[only]);
+  } else {
+    for (std::uint32_t p = first; p < last; ++p)
+      add(classes_.xs[p], classes_.ys[p]);
+  }
+  return true;
+}
+
+bool FootprintTester::fitsEnlarged(int column, int row, int orientation) const {
+  // Offsets nearer than the clearance are free: the distance transform vouches for them.
+  const auto k = std::size_t(orientation);
+  const std::uint8_t* here = strict_.data() + paddedIndex(column, row);
+  // Bytes may alias anything: the bounds and steps are taken out of the vectors first.
+  const std::ptrdiff_t* steps = enlarged_[k].data();
+  const std::size_t count = enlarged_[k].size();
+  for (std::size_t i = beyond(footprints_.enlarged[k], clearance(column, row)); i < count; ++i)
+    if (here[steps[i]]) return false;
+  return true;
+}
+
+bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) const {
+  // Cheap necessary condition first: nothing that blocks deep inside the box.
+  const auto k = std::size_t(orientation);
+  const float lenient_clearance = lenientClearance(column, row);
+  const std::uint8_t* here = lenient_.data() + paddedIndex(column, row);
+  const std::ptrdiff_t* core = core_[k].data();
+  const std::size_t core_count = core_[k].size();
+  for (std::size_t i = beyond(footprints_.core[k], lenient_clearance); i < core_count; ++i)
+    if (here[core[i]]) return false;
+  // What could touch the box, gathered once in the box's own frame (u along, v across), then
+  // tried against the 5 x 5 centres a fifth of a cell apart, the cell's centre first.
+  const Turn& turn = turns_[k];
+  const double c = turn.c, s = turn.s;
+  const Eigen::Vector2d centre = grid_.centre(column, row);
+  const double half_length = half_length_, half_width = half_width_;
+  // The 5 x 5 centres lie within `shift` of the cell's centre along u and along v. An item
+  // closer than that to the box's inside blocks every one of them (the box cannot fit: stop
+  // gathering); one farther than that beyond its edge blocks none (leave it out).
+  const double shift = turn.shift;
+  thread_local std::vector<Eigen::Vector2d> items;
+  items.clear();
+  bool blocks_every_centre = false;
+  auto add = [&](double x, double y) {
+    const double dx = x - centre.x(), dy = y - centre.y();
+    const double u = std::abs(dx * c + dy * s), v = std::abs(-dx * s + dy * c);
+    if (u >= half_length + shift || v >= half_width + shift) return;
+    if (u < half_length - shift && v < half_width - shift) blocks_every_centre = true;
+    items.emplace_back(dx * c + dy * s, -dx * s + dy * c);
+  };
+  // Offsets nearer than the clearance are passable: the distance transform vouches for them.
+  const std::vector<Offset>& rim = footprints_.rim[k];
+  const std::ptrdiff_t* rim_steps = rim_[k].data();
+  const std::size_t rim_count = rim.size();
+  for (std::size_t i = beyond(rim, lenient_clearance); i < rim_count; ++i) {
+    const std::uint8_t code = here[rim_steps[i]];
+    if (code == 0) continue;
+    const int cc = column + rim[i].dx, rr = row + rim[i].dy;
+    if (code == 1) {  // only cells inside the grid hold points
+      if (!addCellPoints(grid_.index(cc, rr), k, centre, add)) return false;
+    } else {
+      const Eigen::Vector2d other = grid_.centre(cc, rr);
+      add(other.x(), other.y());
+    }
+    if (blocks_every_centre) return false;
+  }
+  for (int i = 0; i < kCentres; ++i) {
+    const double du = turn.du[std::size_t(i)], dv = turn.dv[std::size_t(i)];
+    const bool clear = std::none_of(items.begin(), items.end(), [&](const Eigen::Vector2d& item) {
+      return std::abs(item.x() - du) < half_length && std::abs(item.y() - dv) < half_width;
+    });
+    if (clear) return true;
+  }
+  return false;
+}
+
+}  // namespace clearway::detail

@@ -1,0 +1,165 @@
+#pragma once
+
+// The robot's box on the map grid (paper II-D): the orientations tried, the box's cells in each
+// (footprints), and the two tests of one pose (a cell and an orientation) that the label loop and
+// the reachability search share: the coarse test of the enlarged box against blocked cell centres
+// (green) and the exact test of the nominal box against the measured points (orange).
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "cell_classes.h"
+#include "clearway/segmentation/params.h"
+#include "clearway/segmentation/scan_analysis.h"
+
+namespace clearway::detail {
+
+// Margins of the footprints, in cells (the map's resolution).
+// The coarse test's box is the nominal one grown by half a cell on every side: a cell that passes
+// it keeps that much room whatever its points do (green, not orange).
+inline constexpr double kGreenMarginCells = 0.5;
+// The core is the nominal box shrunk by this: a blocked cell centre in there blocks the robot
+// wherever its centre is in its cell (0.4 cells) and wherever the cell's points are (0.71 cells).
+inline constexpr double kCoreInsetCells = 1.2;
+// A cell's points lie within half a diagonal (0.71 cells) of its centre, and the exact test moves
+// the robot's centre up to 0.4 cells along each axis: every cell within this of the box may matter.
+inline constexpr double kRimReachCells = 1.3;
+// A blocked cell's points lie up to 0.71 cells beyond its centre and the robot's centre moves up
+// to 0.57 cells in its cell: below inradius - 1.28 cells (less the clearance's one-cell margin)
+// no position can fit, so the exact test is not even tried.
+inline constexpr float kExactTestSlackCells = 2.3F;
+
+// Orientations closer than this are one [rad].
+inline constexpr double kSameYaw = 1e-2;
+// Orientation indices are stored in bytes (TraversabilityMap::orientation); kNoOrientation marks
+// a cell where nothing fits, and the list stops well below it.
+inline constexpr std::size_t kMaxOrientations = 250;
+inline constexpr std::uint8_t kNoOrientation = 255;
+// A wall plane whose normal's horizontal part is at least this long stands (tilted less than
+// about 45 deg from vertical): its direction is worth trying as an orientation.
+inline constexpr double kStandingWallNormal = 0.7;
+
+// Index of `yaw` (modulo 180 deg) in `yaws`, appended when new; -1 when the list is full.
+int orientationIndex(std::vector<double>& yaws, double yaw);
+
+// Uniform orientations plus, for every wall, its own direction and the one square to it.
+std::vector<double> orientationsToTry(const ScanAnalysis& analysis, int uniform);
+
+struct Offset {
+  int dx, dy;
+  float radius;  // cells
+};
+
+struct Footprints {
+  std::vector<std::vector<Offset>> enlarged;  // nominal + kGreenMarginCells on every side
+  // Nominal less kCoreInsetCells on every side: blocks wherever it holds something that blocks.
+  std::vector<std::vector<Offset>> core;
+  // Every cell that may hold a point inside the box, less the core (the exact check has cleared
+  // the core before it looks at these).
+  std::vector<std::vector<Offset>> rim;
+  std::vector<double> yaw;
+  double inner_radius = 0.0;  // cells: inside this the box is blocked in every orientation
+  double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
+};
+
+// All offsets sorted by radius, nearest first.
+Footprints makeFootprints(const RobotParams& robot, double resolution,
+                          const std::vector<double>& yaws, int threads);
+
+// Unobserved cells the careful check tolerates (1, else 0): single-cell gaps between observed
+// cells (free or blocked) on two opposite sides, e.g. beside a door jamb where the next beam hit
+// the jamb. Not the open edge of the observed space (past an invisible glass wall, over an unseen
+// drop), not a wider unobserved strip (a thin wall seen end-on), and not the inside of an obstacle
+// between its sparse points.
+std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid);
+
+// The two tests of one pose, callable from several threads at once.
+class FootprintTester {
+ public:
+  FootprintTester(const MapGrid& grid, const CellClasses& classes,
+                  const std::vector<std::uint8_t>& tolerated, const Footprints& footprints,
+                  const RobotParams& robot, int threads = 1);
+
+  // Distance (in cells) from the cell's centre to the nearest cell that blocks, less one cell:
+  // strictly (unobserved blocks) and leniently (tolerated unobserved cells do not). The distance
+  // transform's 5x5 mask is within a few per cent of the exact distance; the one cell less keeps
+  // every use conservative (it may only make the tests do more work, never skip a cell).
+  float clearance(int column, int row) const { return clearance_[index(column, row)]; }
+  float lenientClearance(int column, int row) const {
+    return lenient_clearance_[index(column, row)];
+  }
+
+  // Coarse test of the enlarged box: no blocked cell centre inside it.
+  bool fitsEnlarged(int column, int row, int orientation) const;
+
+  // Exact test of the nominal box: no measured point inside it, and no centre of an unobserved,
+  // unreachable or stepped cell. The paper's finer discretisation: the robot's centre may be
+  // anywhere in the cell, tried at 5 x 5 positions a fifth of a cell apart, centre first.
+  bool fitsExactlyInCell(int column, int row, int orientation) const;
+
+ private:
+  // The 5 x 5 centres of the exact test, in the order tried.
+  static constexpr int kCentresPerAxis = 5;
+  static constexpr int kCentres = kCentresPerAxis * kCentresPerAxis;
+  // Per orientation, what the exact test needs, computed once.
+  struct Turn {
+    double c = 1.0, s = 0.0;  // cos and sin of the yaw
+    double shift = 0.0;       // how far the 25 centres reach along u and along v [m]
+    std::array<double, kCentres> du{}, dv{};  // the centres in the box's frame [m]
+  };
+  // Bounds of one cell's blocking points (map frame, metres).
+  struct PointBounds {
+    double min_x, max_x, min_y, max_y;
+  };
+  // A cell's points that lie farthest along -u, +u, -v and +v of one orientation (indices into
+  // CellClasses::xs/ys), kSeveral where two points come within kTieTolerance of the extreme.
+  enum Extreme { kLeastU, kMostU, kLeastV, kMostV };
+  using Extremes = std::array<std::uint32_t, 4>;
+  static constexpr std::uint32_t kSeveral = std::numeric_limits<std::uint32_t>::max();
+  static constexpr std::uint32_t kNoPoints = std::numeric_limits<std::uint32_t>::max();
+
+  // The extremes of `cell`'s points in orientation k, worked out on first use (by one thread;
+  // nullptr while another one is at it).
+  const Extremes* extremes(std::size_t cell, std::size_t k) const;
+  // Adds what `cell`'s points contribute to the exact test at a box centred `centre` in
+  // orientation k, through `add(x, y)`; false when they block every centre of the test.
+  template <typename Add>
+  bool addCellPoints(std::size_t cell, std::size_t k, const Eigen::Vector2d& centre,
+                     Add&& add) const;
+
+  std::size_t index(int column, int row) const {
+    return std::size_t(row) * std::size_t(grid_.width) + std::size_t(column);
+  }
+  std::size_t paddedIndex(int column, int row) const {
+    return std::size_t(row + pad_) * std::size_t(stride_) + std::size_t(column + pad_);
+  }
+
+  const MapGrid& grid_;
+  const CellClasses& classes_;
+  const Footprints& footprints_;
+  double half_length_ = 0.0, half_width_ = 0.0;  // the nominal box [m]
+  double step_ = 0.0;                            // between the exact test's centres [m]
+  std::vector<float> clearance_, lenient_clearance_;
+  int pad_ = 0;
+  int stride_ = 0;
+  // One byte per cell, so each offset costs one read: strict (blocked or unobserved) and lenient
+  // (0 passable, 1 blocked by measured points only, 2 blocked otherwise). A border as wide as the
+  // largest footprint stands for the outside of the map, which blocks: no bounds checks.
+  std::vector<std::uint8_t> strict_;       // padded
+  std::vector<std::uint8_t> lenient_;      // padded
+  std::vector<PointBounds> point_bounds_;  // per cell with blocking points
+  // Per cell with blocking points, its first slot of orientations in extremes_ (else kNoPoints).
+  std::vector<std::uint32_t> first_slot_;
+  mutable std::vector<Extremes> extremes_;
+  enum SlotState : std::uint8_t { kSlotEmpty, kSlotFilling, kSlotReady };
+  mutable std::unique_ptr<std::atomic<std::uint8_t>[]> slot_state_;
+  // Per orientation, the footprints' offsets as steps in the padded arrays.
+  std::vector<std::vector<std::ptrdiff_t>> enlarged_, core_, rim_;
+  std::vector<Turn> turns_;
+};
+
+}  // namespace clearway::detail

@@ -1,0 +1,359 @@
+// The traversability stage's shortcuts change no answer: its label map, reach layer and the fit
+// of every pose the reachability search visits equal those of a plain reference written here,
+// which tests every (cell, orientation) pose by the paper's definitions (paper II-D, as
+// docs/ALGORITHM.md states them) with no clearance shortcut, no footprint list sorted by radius,
+// no cache and no parallel ring, and searches with a plain breadth-first search. Scenes of the
+// peers table, simulated small so that the test runs fast in Debug and under the sanitizers.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <numbers>
+#include <numeric>
+
+#include "../../../core/src/traversability/cell_classes.h"
+#include "../../../core/src/traversability/footprints.h"
+#include "clearway/segmentation/stairs.h"
+#include "engine_fixtures.h"
+
+namespace clearway {
+namespace {
+
+using detail::CellClasses;
+using detail::CellState;
+
+bool fitsLabel(std::uint8_t label) {
+  return label == std::uint8_t(CellLabel::kTraversable) ||
+         label == std::uint8_t(CellLabel::kCareful) || label == std::uint8_t(CellLabel::kObstacle);
+}
+
+// The two tests of one pose, spelt out: every cell of a window around the box is looked at.
+class PlainPoseTests {
+ public:
+  PlainPoseTests(const MapGrid& grid, const CellClasses& classes, const RobotParams& robot,
+                 const std::vector<double>& yaws)
+      : grid_(grid),
+        classes_(classes),
+        tolerated_(detail::toleratedUnknownCells(classes, grid)),
+        yaws_(yaws),
+        along_(robot.length / 2 / grid.resolution),
+        across_(robot.width / 2 / grid.resolution),
+        half_length_(robot.length / 2),
+        half_width_(robot.width / 2),
+        window_(int(std::ceil(std::hypot(along_ + detail::kRimReachCells,
+                                         across_ + detail::kRimReachCells))) +
+                1),
+        footprints_(detail::makeFootprints(robot, grid.resolution, yaws, 1)),
+        gates_(grid, classes, tolerated_, footprints_, robot),
+        inner_radius_(footprints_.inner_radius) {}
+
+  // Blocked or unobserved, and everything outside the map.
+  bool strictlyBlocked(int column, int row) const {
+    if (!grid_.inside(column, row)) return true;
+    const CellState state = classes_.state[grid_.index(column, row)];
+    return state == CellState::kBlocked || state == CellState::kUnknown;
+  }
+  // 0 passable, 1 blocked by measured points only, 2 blocked otherwise (outside the map too).
+  int lenientCode(int column, int row) const {
+    if (!grid_.inside(column, row)) return 2;
+    const std::size_t cell = grid_.index(column, row);
+    switch (classes_.state[cell]) {
+      case CellState::kBlocked:
+        return classes_.blocked_by_points_only[cell] ? 1 : 2;
+      case CellState::kUnknown:
+        return tolerated_[cell] ? 0 : 2;
+      default:
+        return 0;
+    }
+  }
+
+  // No strictly blocked cell centre in the box grown by half a cell.
+  bool enlargedFits(int column, int row, int k) const {
+    const double c = std::cos(yaws_[std::size_t(k)]), s = std::sin(yaws_[std::size_t(k)]);
+    for (int dy = -window_; dy <= window_; ++dy)
+      for (int dx = -window_; dx <= window_; ++dx)
+        if (std::abs(dx * c + dy * s) <= along_ + detail::kGreenMarginCells &&
+            std::abs(-dx * s + dy * c) <= across_ + detail::kGreenMarginCells &&
+            strictlyBlocked(column + dx, row + dy))
+          return false;
+    return true;
+  }
+
+  // Nothing blocking with its centre deep inside the box (the core), and at one of the 5 x 5
+  // centres a fifth of a cell apart no measured point and no other blocking cell's centre inside
+  // the nominal box.
+  bool exactFits(int column, int row, int k) const {
+    const double c = std::cos(yaws_[std::size_t(k)]), s = std::sin(yaws_[std::size_t(k)]);
+    const double core_along = std::max(0.0, along_ - detail::kCoreInsetCells);
+    const double core_across = std::max(0.0, across_ - detail::kCoreInsetCells);
+    const Eigen::Vector2d centre = grid_.centre(column, row);
+    std::vector<Eigen::Vector2d> items;  // in the box's frame, from the cell's centre [m]
+    auto add = [&](double x, double y) {
+      const double dx = x - centre.x(), dy = y - centre.y();
+      items.emplace_back(dx * c + dy * s, -dx * s + dy * c);
+    };
+    for (int dy = -window_; dy <= window_; ++dy)
+      for (int dx = -window_; dx <= window_; ++dx) {
+        const int code = lenientCode(column + dx, row + dy);
+        if (code == 0) continue;
+        if (std::abs(dx * c + dy * s) <= core_along && std::abs(-dx * s + dy * c) <= core_across)
+          return false;
+        if (code == 1) {
+          const std::size_t cell = grid_.index(column + dx, row + dy);
+          for (std::uint32_t p = classes_.point_start[cell]; p < classes_.point_start[cell + 1];
+               ++p)
+            add(classes_.xs[p], classes_.ys[p]);
+        } else {
+          const Eigen::Vector2d other = grid_.centre(column + dx, row + dy);
+          add(other.x(), other.y());
+        }
+      }
+    const double step = grid_.resolution / 5.0;
+    for (int sy = -2; sy <= 2; ++sy)
+      for (int sx = -2; sx <= 2; ++sx) {
+        const double du = (sx * c + sy * s) * step, dv = (-sx * s + sy * c) * step;
+        const bool clear = std::none_of(items.begin(), items.end(), [&](const Eigen::Vector2d& i) {
+          return std::abs(i.x() - du) < half_length_ && std::abs(i.y() - dv) < half_width_;
+        });
+        if (clear) return true;
+      }
+    return false;
+  }
+
+  // The stage tries the coarse test only where the clearance reaches past the inscribed circle
+  // (plus the half cell), and the exact test only where the lenient clearance leaves room for it
+  // (kExactTestSlackCells): that is part of its definition (nearer, a cell is orange or too
+  // narrow), not a shortcut, so the reference gates its tests the same way, with the same
+  // distance transform.
+  PoseFit fit(int column, int row, int k) const {
+    if (gates_.clearance(column, row) >= inner_radius_ + detail::kGreenMarginCells &&
+        enlargedFits(column, row, k))
+      return PoseFit::kClear;
+    if (gates_.lenientClearance(column, row) >= inner_radius_ - detail::kExactTestSlackCells &&
+        exactFits(column, row, k))
+      return PoseFit::kCareful;
+    return PoseFit::kBlocked;
+  }
+
+ private:
+  const MapGrid& grid_;
+  const CellClasses& classes_;
+  std::vector<std::uint8_t> tolerated_;
+  const std::vector<double>& yaws_;
+  double along_, across_;            // half box [cells]
+  double half_length_, half_width_;  // half box [m]
+  int window_;                       // cells looked at on every side
+  // Only for the clearances that gate the two tests (see fit()).
+  detail::Footprints footprints_;
+  detail::FootprintTester gates_;
+  double inner_radius_;  // the box's inscribed radius [cells]
+};
+
+// Labels, reach layer and visited poses' fits of one placement of the box.
+struct Placement {
+  std::vector<std::uint8_t> labels, reasons, reach, pose_fit;
+};
+
+Placement placePlainly(const TraversabilityMap& produced, const CellClasses& classes,
+                       const RobotParams& robot) {
+  const MapGrid& grid = produced.grid;
+  const std::size_t orientations = produced.yaws.size();
+  const PlainPoseTests tests(grid, classes, robot, produced.yaws);
+  Placement placed;
+  placed.labels.assign(grid.cells(), std::uint8_t(CellLabel::kUnknown));
+  placed.reasons.assign(grid.cells(), std::uint8_t(CellReason::kNone));
+  std::vector<std::uint8_t> fits(grid.cells() * orientations, 0);  // PoseFit, 0 = not yet known
+  auto fitOf = [&](int column, int row, int k) {
+    std::uint8_t& known = fits[grid.index(column, row) * orientations + std::size_t(k)];
+    if (!known) known = std::uint8_t(tests.fit(column, row, k));
+    return PoseFit(known);
+  };
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      const CellState state = classes.state[cell];
+      if (state == CellState::kUnknown) continue;
+      if (state == CellState::kBlocked) {
+        placed.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+        placed.reasons[cell] = std::uint8_t(classes.reason[cell]);
+        continue;
+      }
+      PoseFit best = PoseFit::kBlocked;
+      for (int k = 0; k < int(orientations) && best != PoseFit::kClear; ++k)
+        best = std::max(best, fitOf(column, row, k));
+      if (best == PoseFit::kBlocked) {
+        placed.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+        placed.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);
+      } else if (state == CellState::kLowObstacle) {
+        placed.labels[cell] = std::uint8_t(CellLabel::kObstacle);
+      } else {
+        placed.labels[cell] =
+            std::uint8_t(best == PoseFit::kClear ? CellLabel::kTraversable : CellLabel::kCareful);
+      }
+    }
+
+  // Breadth first from the robot's pose: eight neighbours in the same heading, and a turn to the
+  // next tried orientation on either side (sorted by angle modulo 180 deg).
+  placed.reach.assign(grid.cells(), 0);
+  placed.pose_fit.assign(grid.cells() * orientations, std::uint8_t(PoseFit::kUntested));
+  const Eigen::Vector2i start = grid.cellOf(produced.robot_pose.x, produced.robot_pose.y);
+  if (produced.robot_orientation < 0 || !grid.inside(start.x(), start.y())) return placed;
+  std::vector<int> by_angle(orientations);
+  std::iota(by_angle.begin(), by_angle.end(), 0);
+  auto wrapped = [&](int k) {
+    const double yaw = std::fmod(produced.yaws[std::size_t(k)], std::numbers::pi);
+    return yaw < 0 ? yaw + std::numbers::pi : yaw;
+  };
+  std::sort(by_angle.begin(), by_angle.end(),
+            [&](int a, int b) { return wrapped(a) < wrapped(b); });
+  auto turnsFrom = [&](int k) {
+    std::vector<int> turns;
+    const std::size_t n = by_angle.size();
+    const std::size_t at =
+        std::size_t(std::find(by_angle.begin(), by_angle.end(), k) - by_angle.begin());
+    if (n >= 2) turns.push_back(by_angle[(at + 1) % n]);
+    if (n > 2) turns.push_back(by_angle[(at + n - 1) % n]);
+    return turns;
+  };
+  struct Pose {
+    int column, row, k;
+  };
+  auto visit = [&](const Pose& pose) {
+    const std::size_t cell = grid.index(pose.column, pose.row);
+    const PoseFit fit =
+        fitsLabel(placed.labels[cell]) ? fitOf(pose.column, pose.row, pose.k) : PoseFit::kBlocked;
+    placed.pose_fit[cell * orientations + std::size_t(pose.k)] = std::uint8_t(fit);
+    return fit;
+  };
+  const Pose first{start.x(), start.y(), produced.robot_orientation};
+  std::uint8_t& first_fit =
+      placed.pose_fit[grid.index(first.column, first.row) * orientations + std::size_t(first.k)];
+  if (visit(first) == PoseFit::kBlocked)
+    first_fit = std::uint8_t(PoseFit::kCareful);  // it stands there
+  std::deque<Pose> queue = {first};
+  while (!queue.empty()) {
+    const Pose pose = queue.front();
+    queue.pop_front();
+    const std::size_t cell = grid.index(pose.column, pose.row);
+    if (placed.pose_fit[cell * orientations + std::size_t(pose.k)] ==
+        std::uint8_t(PoseFit::kBlocked))
+      continue;
+    placed.reach[cell] = 1;
+    std::vector<Pose> next;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if ((dx || dy) && grid.inside(pose.column + dx, pose.row + dy))
+          next.push_back({pose.column + dx, pose.row + dy, pose.k});
+    for (int k : turnsFrom(pose.k))
+      next.push_back({pose.column, pose.row, k});
+    for (const Pose& n : next) {
+      const std::size_t state = grid.index(n.column, n.row) * orientations + std::size_t(n.k);
+      if (placed.pose_fit[state] != std::uint8_t(PoseFit::kUntested)) continue;
+      visit(n);
+      queue.push_back(n);
+    }
+  }
+  return placed;
+}
+
+struct Case {
+  const char* scene;
+  double robot_width;
+  // Uniform orientations tried; over 64 (with the walls' own) the search goes a pose at a time
+  // instead of a word of orientations per cell.
+  int orientations = 12;
+};
+
+class TraversabilityAgainstReference : public ::testing::TestWithParam<Case> {};
+
+TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePlainTests) {
+  SegmentationParams params;
+  params.robot.width = GetParam().robot_width;
+  params.map.orientations = GetParam().orientations;
+  const auto run = test::simulateAndSegment(GetParam().scene, 150, params);
+  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
+  const ScanAnalysis& analysis = run.result.analysis;
+  const TraversabilityMap& produced = run.result.map;
+  MapParams grid_params = params.map;
+  grid_params.resolution = produced.grid.resolution;
+  const CellClasses classes =
+      detail::classifyCells(analysis, params.robot, grid_params, &produced.robot_pose);
+
+  // As computeTraversability: with sparse ground, the search runs on the loose placement and a
+  // cell that fits only over sparse ground is orange with the reason "too sparse".
+  const Placement loose = placePlainly(produced, classes, params.robot);
+  Placement merged = loose;
+  const bool has_sparse =
+      std::any_of(classes.sparse.begin(), classes.sparse.end(), [](std::uint8_t s) { return s; });
+  if (has_sparse) {
+    const Placement strict =
+        placePlainly(produced, detail::withSparseBlocked(classes), params.robot);
+    for (std::size_t cell = 0; cell < produced.grid.cells(); ++cell) {
+      merged.labels[cell] = strict.labels[cell];
+      merged.reasons[cell] = strict.reasons[cell];
+      if (fitsLabel(strict.labels[cell])) continue;
+      if (fitsLabel(loose.labels[cell])) {
+        merged.labels[cell] = std::uint8_t(CellLabel::kObstacle);
+        merged.reasons[cell] = std::uint8_t(CellReason::kSparse);
+      } else {
+        merged.labels[cell] = loose.labels[cell];
+        merged.reasons[cell] = loose.reasons[cell];
+      }
+    }
+  }
+  TraversabilityMap reference = produced;  // grid, orientations, robot pose
+  reference.labels = merged.labels;
+  reference.reasons = merged.reasons;
+  labelStairs(analysis, params.robot, reference);
+
+  std::size_t label_differences = 0, reach_differences = 0, fit_differences = 0, visited = 0;
+  std::string first_label_difference, first_fit_difference;
+  for (std::size_t cell = 0; cell < produced.grid.cells(); ++cell) {
+    label_differences += produced.labels[cell] != reference.labels[cell] ||
+                         produced.reasons[cell] != reference.reasons[cell];
+    reach_differences += produced.reach[cell] != loose.reach[cell];
+    if (label_differences == 1 && first_label_difference.empty())
+      first_label_difference = "first at cell (" + std::to_string(cell % produced.grid.width) +
+                               ", " + std::to_string(cell / produced.grid.width) + "): label " +
+                               std::to_string(produced.labels[cell]) + ", reference " +
+                               std::to_string(reference.labels[cell]);
+  }
+  ASSERT_EQ(produced.pose_fit.size(), loose.pose_fit.size());
+  for (std::size_t state = 0; state < loose.pose_fit.size(); ++state) {
+    fit_differences += produced.pose_fit[state] != loose.pose_fit[state];
+    if (fit_differences == 1 && first_fit_difference.empty())
+      first_fit_difference = "first at cell " + std::to_string(state / produced.yaws.size()) +
+                             ", orientation " + std::to_string(state % produced.yaws.size()) +
+                             ": fit " + std::to_string(produced.pose_fit[state]) + ", reference " +
+                             std::to_string(loose.pose_fit[state]);
+    visited += loose.pose_fit[state] != std::uint8_t(PoseFit::kUntested);
+  }
+  EXPECT_EQ(label_differences, 0U) << first_label_difference;
+  EXPECT_EQ(reach_differences, 0U);
+  EXPECT_EQ(fit_differences, 0U) << first_fit_difference << "; of " << visited
+                                 << " poses the reference search visited";
+  // The comparison means something: the scene has orange cells, reachable cells and poses the
+  // box does not fit in.
+  const std::size_t careful = std::size_t(std::count(produced.labels.begin(), produced.labels.end(),
+                                                     std::uint8_t(CellLabel::kCareful)));
+  EXPECT_GT(careful, 0U);
+  EXPECT_GT(produced.reachable_cells, 100U);
+  EXPECT_GT(
+      std::count(loose.pose_fit.begin(), loose.pose_fit.end(), std::uint8_t(PoseFit::kBlocked)), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(PeersTableScenes, TraversabilityAgainstReference,
+                         ::testing::Values(Case{"garage", 0.85}, Case{"garage", 0.95},
+                                           Case{"hallway", 0.85}, Case{"doorways", 0.85},
+                                           Case{"garage", 0.85, 66}),
+                         [](const ::testing::TestParamInfo<Case>& param_info) {
+                           const Case& c = param_info.param;
+                           return std::string(c.scene) + "_" +
+                                  std::to_string(int(std::lround(c.robot_width * 100))) + "_" +
+                                  std::to_string(c.orientations) + "_orientations";
+                         });
+
+}  // namespace
+}  // namespace clearway
