@@ -273,8 +273,8 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
   params.robot.width = GetParam().robot_width;
   params.map.orientations = GetParam().orientations;
   const auto run = test::simulateAndSegment(GetParam().scene, 150, params);
-  ASSERT_TRUE(run.result.trusted()) << run.result.analysis.reason;
-  const ScanAnalysis& analysis = run.result.analysis;
+  ASSERT_TRUE(run.result.trusted()) << run.result.analysis->reason;
+  const ScanAnalysis& analysis = *run.result.analysis;
   const TraversabilityMap& produced = run.result.map;
   MapParams grid_params = params.map;
   grid_params.resolution = produced.grid.resolution;
