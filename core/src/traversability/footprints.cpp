@@ -84,9 +84,12 @@ struct Range {
 };
 
 std::vector<float> distancesLessOneCell(const cv::Mat& free_mask) {
-  cv::Mat distance;
-  cv::distanceTransform(free_mask, distance, cv::DIST_L2, cv::DIST_MASK_5);
-  distance -= kClearanceMarginCells;
+  // The outside of the map blocks (nothing was seen there), as in the tester's padded arrays; the
+  // distance transform alone would take it for free space and vouch for boxes sticking out.
+  cv::Mat bordered, distance;
+  cv::copyMakeBorder(free_mask, bordered, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::distanceTransform(bordered, distance, cv::DIST_L2, cv::DIST_MASK_5);
+  distance = distance(cv::Rect(1, 1, free_mask.cols, free_mask.rows)) - kClearanceMarginCells;
   std::vector<float> values(std::size_t(distance.rows) * std::size_t(distance.cols));
   for (int row = 0; row < distance.rows; ++row)
     std::memcpy(values.data() + std::size_t(row) * std::size_t(distance.cols),

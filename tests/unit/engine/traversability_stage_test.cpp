@@ -242,6 +242,37 @@ TEST(TraversabilityStage, AHeightJumpWithinOneGroundLevelIsTooSteepOnBothSides) 
   }
 }
 
+// Ground up to the grid's edge (a multi-beam map cut at its vouched range has no unobserved rim):
+// what lies beyond the map was not seen, so a box that would stick out of it does not fit there.
+TEST(TraversabilityStage, ABoxStickingOutOfTheMapDoesNotFit) {
+  constexpr double kEdge = 3.0;
+  const RobotParams robot = testRobot();
+  HandBuiltMap built(-kEdge, -kEdge, kEdge, kEdge);
+  built.floor(-kEdge, -kEdge, kEdge, kEdge).robotAt(0.0, 0.0, 0.0);
+  const TraversabilityMap map = mapOf(built, robot);
+  // Half the robot's width is the least any orientation leaves between its centre and the edge.
+  // Careful (exact) fits may move the centre within its cell, and the unobserved outside blocks
+  // at its cells' centres, as unobserved cells do everywhere: a cell of slack for orange.
+  const double inscribed = robot.width / 2;
+  std::size_t near_edge = 0;
+  for (int row = 0; row < map.grid.height; ++row)
+    for (int column = 0; column < map.grid.width; ++column) {
+      const Eigen::Vector2d centre = map.grid.centre(column, row);
+      const double to_edge = kEdge - centre.cwiseAbs().maxCoeff();
+      if (to_edge >= inscribed) continue;
+      ++near_edge;
+      const auto label = CellLabel(map.labels[map.grid.index(column, row)]);
+      EXPECT_NE(label, CellLabel::kTraversable)
+          << "the box sticks out of the map at " << centre.transpose() << " yet shows green";
+      if (to_edge < inscribed - map.grid.resolution) {
+        EXPECT_NE(label, CellLabel::kCareful)
+            << "the box sticks out of the map at " << centre.transpose() << " yet shows orange";
+      }
+    }
+  EXPECT_GT(near_edge, 0U);
+  EXPECT_GT(map.counts[std::size_t(CellLabel::kTraversable)], 0U);  // the middle is open floor
+}
+
 TEST(TraversabilityStage, AnOpenFloorIsGreenWhereverTheBoxFitsAndReachable) {
   constexpr double kFloorEdge = 2.5;  // floor over [-2.5, 2.5]^2, grid over [-3, 3]^2
   const RobotParams robot = testRobot();
