@@ -30,13 +30,31 @@ std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) 
 // An overhang is "too low" when the lowest thing in the way is above this share of the robot.
 constexpr double kOverhangShare = 0.5;
 
-// Whether a map position lies in the robot's box at `pose`, grown by `margin` on every side.
-bool insideBox(const RobotPose& pose, const RobotParams& robot, double x, double y, double margin) {
-  const double dx = x - pose.x, dy = y - pose.y;
-  const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
-  return std::abs(dx * c + dy * s) <= robot.length / 2 + margin &&
-         std::abs(-dx * s + dy * c) <= robot.width / 2 + margin;
-}
+// The robot's box at a pose: whether a map position lies in it, grown by `margin` on every side.
+// Asked once per measured point: the heading's sine and cosine are taken once.
+class RobotBox {
+ public:
+  RobotBox(const RobotPose& pose, const RobotParams& robot)
+      : pose_(pose),
+        c_(std::cos(pose.yaw)),
+        s_(std::sin(pose.yaw)),
+        half_length_(robot.length / 2),
+        half_width_(robot.width / 2) {}
+  bool contains(double x, double y, double margin) const {
+    const double dx = x - pose_.x, dy = y - pose_.y;
+    return std::abs(dx * c_ + dy * s_) <= half_length_ + margin &&
+           std::abs(-dx * s_ + dy * c_) <= half_width_ + margin;
+  }
+  // Every position it contains (with `margin`) lies within this distance of its centre.
+  double reach(double margin) const {
+    return std::hypot(half_length_ + margin, half_width_ + margin);
+  }
+  const RobotPose& pose() const { return pose_; }
+
+ private:
+  RobotPose pose_;
+  double c_, s_, half_length_, half_width_;
+};
 
 // Free ground cells whose samples lie farther apart than kSpacingPerStep x the robot's step, in
 // patches at least as wide as the step: a narrower patch (one ground point no triangle reached,
@@ -190,15 +208,20 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   std::vector<std::uint32_t> blocking_count(cells, 0);
   const float min_height = float(params.obstacle_min_height);
   const float step = float(robot.max_step), top = float(robot.height);
-  auto ownBody = [&](const MapObstacle& o) {
-    return own_place && insideBox(*own_place, robot, o.x, o.y, 0.0);
+  const RobotBox own_box(own_place ? *own_place : RobotPose{}, robot);  // used with own_place
+  // Returns from the robot's own body, found once per point.
+  std::vector<std::uint8_t> own_body(inputs.obstacles.size(), 0);
+  if (own_place)
+    for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
+      own_body[i] = own_box.contains(inputs.obstacles[i].x, inputs.obstacles[i].y, 0.0);
+  auto blocks = [&](std::size_t i) {
+    const MapObstacle& o = inputs.obstacles[i];
+    return ((o.height > step && o.height < top) || o.height < -step) && !own_body[i];
   };
-  auto blocks = [&](const MapObstacle& o) {
-    return ((o.height > step && o.height < top) || o.height < -step) && !ownBody(o);
-  };
-  for (const MapObstacle& o : inputs.obstacles) {
-    if (ownBody(o)) continue;
-    if (blocks(o)) {
+  for (std::size_t i = 0; i < inputs.obstacles.size(); ++i) {
+    const MapObstacle& o = inputs.obstacles[i];
+    if (own_body[i]) continue;
+    if (blocks(i)) {
       lowest_block[o.cell] = std::min(lowest_block[o.cell], std::abs(o.height));
       ++blocking_count[o.cell];
       if (o.height < -step) classes.reason[o.cell] = CellReason::kTooSteep;
@@ -240,12 +263,16 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   // The robot stands on its own place: the floor under it is ground, seen or not.
   if (own_place) {
     const double margin = 0.5 * grid.resolution;
-    for (int row = 0; row < grid.height; ++row)
-      for (int column = 0; column < grid.width; ++column) {
+    // Only the cells around the box can lie in it.
+    const double reach = own_box.reach(margin);
+    const Eigen::Vector2i low = grid.cellOf(own_box.pose().x - reach, own_box.pose().y - reach);
+    const Eigen::Vector2i high = grid.cellOf(own_box.pose().x + reach, own_box.pose().y + reach);
+    for (int row = std::max(low.y(), 0); row <= std::min(high.y(), grid.height - 1); ++row)
+      for (int column = std::max(low.x(), 0); column <= std::min(high.x(), grid.width - 1);
+           ++column) {
         const std::size_t cell = grid.index(column, row);
         const Eigen::Vector2d centre = grid.centre(column, row);
-        if (blocking_count[cell] != 0 ||
-            !insideBox(*own_place, robot, centre.x(), centre.y(), margin))
+        if (blocking_count[cell] != 0 || !own_box.contains(centre.x(), centre.y(), margin))
           continue;
         classes.state[cell] = CellState::kGround;
         classes.reason[cell] = CellReason::kNone;
@@ -259,8 +286,9 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   // its beams' continuations are in the band, and the cells along the edge of its shadow (a door
   // jamb's, seen through the door) would only be caught by the walk's discretisation.
   std::vector<MapObstacle> overhanging;
-  for (const MapObstacle& o : inputs.obstacles)
-    if (blocks(o) && classes.reason[o.cell] == CellReason::kTooLow) overhanging.push_back(o);
+  for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
+    if (blocks(i) && classes.reason[inputs.obstacles[i].cell] == CellReason::kTooLow)
+      overhanging.push_back(inputs.obstacles[i]);
   const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging);
   for (std::size_t cell = 0; cell < cells; ++cell)
     if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
@@ -274,8 +302,9 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   classes.xs.resize(classes.point_start[cells]);
   classes.ys.resize(classes.point_start[cells]);
   std::vector<std::uint32_t> fill(classes.point_start.begin(), classes.point_start.end() - 1);
-  for (const MapObstacle& o : inputs.obstacles) {
-    if (!blocks(o)) continue;
+  for (std::size_t i = 0; i < inputs.obstacles.size(); ++i) {
+    if (!blocks(i)) continue;
+    const MapObstacle& o = inputs.obstacles[i];
     classes.xs[fill[o.cell]] = o.x;
     classes.ys[fill[o.cell]++] = o.y;
   }
