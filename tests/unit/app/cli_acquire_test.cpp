@@ -97,6 +97,16 @@ bool waitFor(Condition condition, int seconds = 30) {
   return false;
 }
 
+// The scan's VIEWPOINT is `truth` (world_from_scanner), to `tolerance`.
+void expectPose(const Scan& scan, const hardware::RigidPose& truth, double tolerance) {
+  ASSERT_TRUE(scan.sensor_pose);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_NEAR(scan.sensor_pose->position[std::size_t(i)], truth.translation[i], tolerance);
+  const Eigen::Matrix3d r = truth.rotation.toRotationMatrix();
+  for (int i = 0; i < 9; ++i)
+    EXPECT_NEAR(scan.sensor_pose->rotation[std::size_t(i)], r(i / 3, i % 3), tolerance);
+}
+
 // The simulator's placement whose pose is `world_from_scanner`, so the engine fixtures can find
 // world positions in a map made from an acquired scan.
 sim::ScannerPlacement placementOf(const SensorPose& pose) {
@@ -140,12 +150,7 @@ TEST(CliAcquire, TheArmsPoseTravelsWithTheScanAndTheGarageDoorIsJudgedRight) {
   // The VIEWPOINT is the pose the emulator really scanned from.
   Scan loaded = loadScan(scan);
   ASSERT_TRUE(loaded.sensor_pose);
-  const hardware::RigidPose truth = emulator.worldFromScanner();
-  for (int i = 0; i < 3; ++i)
-    EXPECT_NEAR(loaded.sensor_pose->position[std::size_t(i)], truth.translation[i], 1e-5);
-  const Eigen::Matrix3d r = truth.rotation.toRotationMatrix();
-  for (int i = 0; i < 9; ++i)
-    EXPECT_NEAR(loaded.sensor_pose->rotation[std::size_t(i)], r(i / 3, i % 3), 1e-5);
+  expectPose(loaded, emulator.worldFromScanner(), 1e-5);
 
   // clearway-cli segment finds the ground of the saved scan.
   const auto segmented = runCli("segment " + shellQuote(scan.string()) + " -o " +
@@ -204,12 +209,7 @@ TEST(CliAcquire, ServeWithTheArmServesScansWithTheirPose) {
   ASSERT_EQ(acquired.exit_code, 0) << acquired.err << serve.err();
   const Scan loaded = loadScan(scan);
   ASSERT_TRUE(loaded.sensor_pose);
-  const hardware::RigidPose truth = emulator.worldFromScanner();
-  for (int i = 0; i < 3; ++i)
-    EXPECT_NEAR(loaded.sensor_pose->position[std::size_t(i)], truth.translation[i], 1e-4);
-  const Eigen::Matrix3d r = truth.rotation.toRotationMatrix();
-  for (int i = 0; i < 9; ++i)
-    EXPECT_NEAR(loaded.sensor_pose->rotation[std::size_t(i)], r(i / 3, i % 3), 1e-4);
+  expectPose(loaded, emulator.worldFromScanner(), 1e-4);
 }
 
 TEST(CliAcquire, SigtermStopsTheDevicesSavesThePartialScanAndTheNextAcquireWorks) {
