@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <opencv2/imgproc.hpp>
 #include <queue>
 
 namespace clearway::detail {
@@ -89,27 +90,21 @@ std::vector<std::uint8_t> sparseCells(const MapInputs& inputs, const std::vector
       const bool free = state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle;
       raw[cell] = free && inputs.ground_plane[cell] >= 0 && spacingOf(column, row) > max_spacing;
     }
-  // Opening by a square as wide as the step: patches narrower than the step go.
+  // Opening by a square as wide as the step: patches narrower than the step go. Outside the grid
+  // counts as not sparse (the constant border), for the erosion and the dilation alike.
   const int reach = std::max(0, int(std::floor(robot.max_step / params.resolution / 2.0)));
-  auto sweep = [&](const std::vector<std::uint8_t>& in, bool erode) {
-    std::vector<std::uint8_t> out(cells, 0);
-    for (int row = 0; row < grid.height; ++row)
-      for (int column = 0; column < grid.width; ++column) {
-        bool all = true, any = false;
-        for (int dr = -reach; dr <= reach; ++dr)
-          for (int dc = -reach; dc <= reach; ++dc) {
-            const bool set =
-                grid.inside(column + dc, row + dr) && in[grid.index(column + dc, row + dr)];
-            all = all && set;
-            any = any || set;
-          }
-        out[grid.index(column, row)] = erode ? all : any;
-      }
-    return out;
-  };
-  const std::vector<std::uint8_t> opened = sweep(sweep(raw, true), false);
-  for (std::size_t cell = 0; cell < cells; ++cell)
-    sparse[cell] = raw[cell] && opened[cell];
+  const cv::Mat square =
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1));
+  // Rows of the grid are rows of the image (cells are stored row by row).
+  const cv::Mat raw_image(grid.height, grid.width, CV_8UC1, raw.data());
+  cv::Mat eroded, opened;
+  cv::erode(raw_image, eroded, square, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  cv::dilate(eroded, opened, square, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      sparse[cell] = raw[cell] && opened.at<std::uint8_t>(row, column);
+    }
   return sparse;
 }
 
