@@ -229,8 +229,6 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   connect(d_->hardware, &HardwarePanel::linesArrived, d_->scene, &SceneView::showArrivingScan);
   connect(d_->hardware, &HardwarePanel::scanSaved, this,
           [this](const QString& path) { openScan(path); });
-  // A scan that could not be saved leaves its journal: offer it as soon as the device is idle.
-  connect(d_->hardware, &HardwarePanel::statusChanged, this, [this] { checkUnfinishedJournals(); });
   setAcceptDrops(true);
   connect(d_->cancel, &QPushButton::clicked, d_->session, &SegmentationSession::cancel);
   connect(d_->session, &SegmentationSession::progress, this,
@@ -265,6 +263,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   updateTitle();
   restoreLayout();
   // Journals left by a crash of an earlier session wait in the scans folder.
+  setUpJournalRecovery();
   QTimer::singleShot(0, this, [this] { checkUnfinishedJournals(); });
 }
 

@@ -10,24 +10,28 @@
 
 namespace clearway::ui {
 
-int MainWindow::checkUnfinishedJournals() {
-  if (!d_->recovery) {
-    d_->recovery = new JournalRecovery(this);
-    connect(d_->recovery, &JournalRecovery::finished, this,
-            [this](const QStringList& scans, const QStringList& problems) {
-              QString message;
-              if (!scans.isEmpty())
-                message = tr("Recovered %n interrupted acquisition(s): %1.", "", int(scans.size()))
-                              .arg(scans.join(", "));
-              if (!problems.isEmpty())
-                message += (message.isEmpty() ? "" : " ") +
-                           tr("Not recovered: %1").arg(problems.join("; "));
-              statusBar()->showMessage(message);
-              checkUnfinishedJournals();
-              if (!scans.isEmpty()) openScan(scans.back());
-              emit journalsRecovered(scans, problems);
-            });
-  }
+void MainWindow::setUpJournalRecovery() {
+  d_->recovery = new JournalRecovery(this);
+  connect(d_->recovery, &JournalRecovery::finished, this,
+          [this](const QStringList& scans, const QStringList& problems) {
+            QString message;
+            if (!scans.isEmpty())
+              message = tr("Recovered %n interrupted acquisition(s): %1.", "", int(scans.size()))
+                            .arg(scans.join(", "));
+            if (!problems.isEmpty())
+              message +=
+                  (message.isEmpty() ? "" : " ") + tr("Not recovered: %1").arg(problems.join("; "));
+            statusBar()->showMessage(message);
+            updateRecoverAction();
+            if (!scans.isEmpty()) openScan(scans.back());
+            emit journalsRecovered(scans, problems);
+          });
+  // A scan that could not be saved leaves its journal: offered as soon as the device is idle,
+  // in the File menu only (the status bar keeps what the operator is reading).
+  connect(d_->hardware, &HardwarePanel::statusChanged, this, [this] { updateRecoverAction(); });
+}
+
+int MainWindow::updateRecoverAction() {
   // The journal of a scan in progress is being written: never touch it.
   const int count = d_->hardware->scanning()
                         ? 0
@@ -35,6 +39,11 @@ int MainWindow::checkUnfinishedJournals() {
   d_->recover_action->setEnabled(count > 0 && !d_->recovery->busy());
   d_->recover_action->setText(count > 0 ? tr("&Recover interrupted acquisitions (%1)").arg(count)
                                         : tr("&Recover interrupted acquisitions"));
+  return count;
+}
+
+int MainWindow::checkUnfinishedJournals() {
+  const int count = updateRecoverAction();
   if (count > 0 && !d_->recovery->busy())
     statusBar()->showMessage(tr("%n interrupted acquisition(s) in %1 can be recovered: File > "
                                 "Recover interrupted acquisitions.",
@@ -44,7 +53,7 @@ int MainWindow::checkUnfinishedJournals() {
 }
 
 void MainWindow::recoverInterruptedAcquisitions() {
-  if (checkUnfinishedJournals() == 0 || d_->recovery->busy()) return;
+  if (updateRecoverAction() == 0 || d_->recovery->busy()) return;
   d_->recover_action->setEnabled(false);
   statusBar()->showMessage(tr("Recovering interrupted acquisitions ..."));
   d_->recovery->recover(JournalRecovery::unfinished(d_->hardware->scanFolder()));

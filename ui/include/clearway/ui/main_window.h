@@ -58,7 +58,8 @@ class MainWindow : public QMainWindow {
   // scans folder are turned into SCAN-recovered.pcd in the background, the last one is opened,
   // and journalsRecovered follows. Nothing happens while a scan is being acquired.
   void recoverInterruptedAcquisitions();
-  // How many journals wait for recovery (also the File menu's action and a status message).
+  // How many journals wait for recovery; updates the File menu's action and says so in the
+  // status bar.
   int checkUnfinishedJournals();
 
   // What the views show is now the previous scan (an acquisition started).
@@ -98,6 +99,8 @@ class MainWindow : public QMainWindow {
   void showPoseAndReach();
   void planGoal();
   void updateTrustBanner();
+  void setUpJournalRecovery();
+  int updateRecoverAction();  // the File menu's action only; how many journals wait
 
   struct Private;
   std::unique_ptr<Private> d_;
