@@ -250,7 +250,7 @@ int runBench(const std::vector<std::string>& words) {
         "one or more scans: clearway-cli bench SCAN... [--repeat N] [--threads T] [--peers] "
         "[--rings N]");
   const int repeat = int(arguments.integer("repeat", 20, 1, 100000));
-  const int threads = int(arguments.integer("threads", kDefaultThreads, 1, 64));
+  const int threads = int(arguments.integer("threads", kDefaultThreads, 1, kMaxThreads));
   const SegmentationParams params = paramsFromArguments(arguments);
 
   nlohmann::json all = nlohmann::json::array();

@@ -23,7 +23,7 @@ int runSegment(const std::vector<std::string>& words) {
   const auto output = arguments.option("o") ? arguments.option("o") : arguments.option("output");
   if (!output) throw UsageError("-o DIR is required");
   SegmentationParams params = paramsFromArguments(arguments);
-  const int threads = int(arguments.integer("threads", kDefaultThreads, 1, 64));
+  const int threads = int(arguments.integer("threads", kDefaultThreads, 1, kMaxThreads));
 
   std::optional<Eigen::Vector2d> goal;
   if (const auto text = arguments.option("goal")) {

@@ -7,7 +7,7 @@
 // the 3D camera, --measure draws a measured distance on the map, --goal asks "Can it get there?"
 // for a map position (the path or the reason is shown), --deuteranopia saves the picture
 // as a person with deuteranopia would see it (Machado 2009), so screenshots are reproducible.
-// --threads sets the engine's threads (default 2, as clearway-cli's).
+// --threads sets the engine's threads (default kDefaultThreads, as clearway-cli's).
 
 #include <QApplication>
 #include <QCommandLineParser>
@@ -44,9 +44,9 @@ bool readThreads(const QCommandLineParser& parser, int& threads) {
   if (!parser.isSet("threads")) return true;
   bool ok = false;
   threads = parser.value("threads").toInt(&ok);
-  if (!ok || threads < 1 || threads > clearway::ui::SegmentationSession::kMaxThreads) {
+  if (!ok || threads < 1 || threads > clearway::kMaxThreads) {
     std::fprintf(stderr, "clearway: --threads needs a whole number from 1 to %d\n",
-                 clearway::ui::SegmentationSession::kMaxThreads);
+                 clearway::kMaxThreads);
     return false;
   }
   return true;
@@ -145,7 +145,9 @@ int main(int argc, char** argv) {
   parser.addOption({"view", "3D camera: operator (default), top, front or side.", "view"});
   parser.addOption({"measure", "Measure on the map between two points [m].", "x1,y1,x2,y2"});
   parser.addOption({"deuteranopia", "Save the screenshot as seen with deuteranopia."});
-  parser.addOption({"threads", "Threads the engine uses (default 2).", "n"});
+  parser.addOption({"threads",
+                    QString("Threads the engine uses (default %1).").arg(clearway::kDefaultThreads),
+                    "n"});
   parser.addOption(
       {"goal", "With --screenshot: ask \"Can it get there?\" for a map position [m].", "x,y"});
   parser.process(application);

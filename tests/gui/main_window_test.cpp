@@ -157,7 +157,7 @@ class MainWindowTest : public QObject {
     session.setThreads(0);
     QCOMPARE(session.threads(), 1);  // at least one
     session.setThreads(1000);
-    QCOMPARE(session.threads(), clearway::ui::SegmentationSession::kMaxThreads);
+    QCOMPARE(session.threads(), clearway::kMaxThreads);
     session.setThreads(1);
     clearway::RobotParams robot = session.params().robot;
     robot.width += 0.1;

@@ -21,6 +21,8 @@ namespace clearway {
 // Threads the engine uses unless told otherwise (clearway-cli --threads, clearway --threads): the
 // operator console's computer has two cores, and so has the CI machine.
 inline constexpr int kDefaultThreads = 2;
+// The most threads a caller may ask for (the command line's and the console's range).
+inline constexpr int kMaxThreads = 64;
 
 struct PipelineResult {
   // Stages 1-4, read-only and shared by every result of the same scan: a re-run for another robot

@@ -325,10 +325,11 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
       by_angle ? angleAlongLines(scan, multi_beam, lift) : std::vector<double>{};
   const bool elevation_fans =
       !along.empty() && !multi_beam && sweepInElevation(scan, along, sensor);
-  if (!along.empty() && !multi_beam && !elevation_fans)
-    along = scanner_height >= kElevationHeight ? angleAlongLines(scan, false, 0.0)
-                                               : std::vector<double>{};
-  const Fans fans = fansOf(scan, sensor, elevation_fans ? along : std::vector<double>{});
+  // The elevation from the file's origin is what was computed above when the origin is high
+  // enough (no lift); lower, these lines pair by index.
+  if (!along.empty() && !multi_beam && !elevation_fans && scanner_height < kElevationHeight)
+    along.clear();
+  const Fans fans = elevation_fans ? fansOf(scan, sensor, along) : fansOf(scan, sensor, {});
   if (elevation_fans)
     for (const ScanLine& fan : fans.lines)
       holdDips(along, fan);

@@ -295,10 +295,10 @@ std::vector<float> groundSpacing(const MapInputs& inputs, const ScanAnalysis& an
 
 // The ground under a point in a cell with no ground near it (hidden under an obstacle): the
 // highest ground plane below the point whose real area reaches there, or the reference plane.
-double groundBeneathHidden(const ScanAnalysis& analysis, const Eigen::Vector3d& m) {
+double groundBeneathHidden(const ScanAnalysis& analysis, const Eigen::Isometry3d& scanner_from_map,
+                           const Eigen::Vector3d& m) {
   // A plane counts as below the point up to this much above it (the point may lie in its band).
   constexpr double kPlaneBand = 0.05;  // [m]
-  const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   double ground = analysis.planeHeight(analysis.reference_ground, m.x(), m.y());
   for (int g : analysis.ground_planes) {
     const double h = analysis.planeHeight(g, m.x(), m.y());
@@ -318,6 +318,7 @@ std::vector<MapObstacle> measureObstacles(const Scan& scan, const ScanAnalysis& 
                                           const std::vector<Eigen::Vector2i>& cell_of,
                                           int threads) {
   const MapGrid& grid = inputs.grid;
+  const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   std::vector<std::vector<MapObstacle>> found(std::size_t(std::max(threads, 1)));
   detail::parallelChunks(
       scan.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
@@ -333,7 +334,7 @@ std::vector<MapObstacle> measureObstacles(const Scan& scan, const ScanAnalysis& 
           else if (const auto local = groundAround(inputs, cell))
             ground = *local;
           else
-            ground = groundBeneathHidden(analysis, m);
+            ground = groundBeneathHidden(analysis, scanner_from_map, m);
           found[chunk].push_back({std::uint32_t(index), float(m.x()), float(m.y()), float(m.z()),
                                   float(m.z() - ground)});
         }

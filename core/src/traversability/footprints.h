@@ -35,10 +35,9 @@ inline constexpr float kExactTestSlackCells = 2.3F;
 
 // Orientations closer than this are one [rad].
 inline constexpr double kSameYaw = 1e-2;
-// Orientation indices are stored in bytes (TraversabilityMap::orientation); kNoOrientation marks
-// a cell where nothing fits, and the list stops well below it.
+// Orientation indices are stored in bytes (TraversabilityMap::orientation); kNoOrientation
+// (traversability_map.h) marks a cell where nothing fits, and the list stops well below it.
 inline constexpr std::size_t kMaxOrientations = 250;
-inline constexpr std::uint8_t kNoOrientation = 255;
 // A wall plane whose normal's horizontal part is at least this long stands (tilted less than
 // about 45 deg from vertical): its direction is worth trying as an orientation.
 inline constexpr double kStandingWallNormal = 0.7;

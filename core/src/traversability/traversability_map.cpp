@@ -171,7 +171,7 @@ std::string_view labelName(CellLabel label) {
 
 double TraversabilityMap::yawDegrees(int column, int row) const {
   const std::uint8_t index = orientation[grid.index(column, row)];
-  if (index == detail::kNoOrientation) return std::numeric_limits<double>::quiet_NaN();
+  if (index == kNoOrientation) return std::numeric_limits<double>::quiet_NaN();
   return yaws[index] * 180.0 / std::numbers::pi;
 }
 
@@ -183,13 +183,13 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   const std::size_t cells = map.grid.cells();
   map.labels.assign(cells, std::uint8_t(CellLabel::kUnknown));
   map.reasons.assign(cells, std::uint8_t(CellReason::kNone));
-  map.orientation.assign(cells, detail::kNoOrientation);
+  map.orientation.assign(cells, kNoOrientation);
   if (!analysis.ground_found || cells == 0) {
     // Nothing can be trusted: one unknown cell under the scanner, and no traversable cell at all.
     map.grid = MapGrid{params.resolution, Eigen::Vector2d::Constant(-params.resolution / 2), 1, 1};
     map.labels.assign(1, std::uint8_t(CellLabel::kUnknown));
     map.reasons.assign(1, std::uint8_t(CellReason::kNone));
-    map.orientation.assign(1, detail::kNoOrientation);
+    map.orientation.assign(1, kNoOrientation);
     map.counts[0] = 1;
     return map;
   }

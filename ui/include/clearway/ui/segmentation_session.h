@@ -48,8 +48,8 @@ class SegmentationSession : public QObject {
   void setRobot(const RobotParams& robot);
   void setParams(const SegmentationParams& params);
   const SegmentationParams& params() const { return params_; }
-  // Threads every later job uses (load, re-segment, robot re-run), clamped to 1..kMaxThreads;
-  // the running job keeps its own.
+  // Threads every later job uses (load, re-segment, robot re-run), clamped
+  // to 1..clearway::kMaxThreads; the running job keeps its own.
   void setThreads(int threads);
   int threads() const { return threads_; }
   void cancel();
@@ -57,8 +57,6 @@ class SegmentationSession : public QObject {
 
   // Milliseconds a robot change waits for the next one before the re-run starts.
   static constexpr int kRobotDebounceMs = 120;
-  // The most threads the engine is given, as on the command line (clearway-cli --threads).
-  static constexpr int kMaxThreads = 64;
 
  signals:
   void progress(int percent, const QString& what);
