@@ -135,7 +135,7 @@ int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette) {
   const std::pair<CellLabel, QString> entries[] = {
       {CellLabel::kTraversable, QObject::tr("traversable")},
       {CellLabel::kCareful, QObject::tr("careful (narrow)")},
-      {CellLabel::kObstacle, QObject::tr("low obstacle")},
+      {CellLabel::kObstacle, QObject::tr("low obstacle or too sparse")},
       {CellLabel::kImpassable, QObject::tr("impassable")},
       {CellLabel::kStairs, QObject::tr("stairs, with care")},
       {CellLabel::kUnknown, QObject::tr("unobserved")}};

@@ -15,6 +15,8 @@ constexpr double kPassageSearch = 4.0;
 constexpr int kPassageDirections = 16;
 // A press that moves less than this [px] before release is a click, not a drag.
 constexpr int kClickSlopPx = 4;
+// "Fit map" shows at least this many metres each way (a few robot lengths).
+constexpr double kSmallestFitExtent = 4.0;
 
 // What bounds a passage: unobserved cells and red cells with something in the way. Red cells that
 // are only "too narrow" for the robot's centre are free space inside the passage.
@@ -103,7 +105,11 @@ void MapView::fit() {
   if (!result_ || image_.isNull() || width() <= 0 || height() <= 0) return;
   const MapGrid& grid = result_->map.grid;
   const double width_m = grid.width * grid.resolution, height_m = grid.height * grid.resolution;
-  pixels_per_metre_ = std::max(1.0, 0.95 * std::min(width() / width_m, height() / height_m));
+  // A map of a few cells (no ground: one unknown cell) is shown at a scale a robot fits in, not
+  // blown up to centimetres.
+  pixels_per_metre_ =
+      std::max(1.0, 0.95 * std::min(width() / std::max(width_m, kSmallestFitExtent),
+                                    height() / std::max(height_m, kSmallestFitExtent)));
   // Centre the map: map x grows right, map y grows up.
   const QPointF map_centre(grid.origin.x() + width_m / 2, grid.origin.y() + height_m / 2);
   offset_ = QPointF(width() / 2.0 - map_centre.x() * pixels_per_metre_,
@@ -212,7 +218,9 @@ void MapView::paintEvent(QPaintEvent*) {
   drawMetreGrid(painter, to_widget, rect());
   drawMapAxes(painter, to_widget);
   drawPath(painter, to_widget, path_, result_->robot);
-  drawRobot(painter, to_widget, robot_pose_, result_->robot);
+  // Without ground the robot has no place on the map: nothing to draw.
+  if (result_->map.robot_orientation >= 0)
+    drawRobot(painter, to_widget, robot_pose_, result_->robot);
   if (cursor_inside_ && !measuring_) drawFootprintAtCursor(painter);
   if (measure_points_.size() == 2)
     drawMeasurement(painter, to_widget, measure_points_[0], measure_points_[1]);

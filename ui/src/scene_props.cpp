@@ -341,7 +341,7 @@ std::vector<vtkSmartPointer<vtkProp>> legendProps(PaletteKind palette) {
   const std::pair<QColor, QString> entries[] = {
       {cellColour(CellLabel::kTraversable, palette), QObject::tr("traversable")},
       {cellColour(CellLabel::kCareful, palette), QObject::tr("careful")},
-      {cellColour(CellLabel::kObstacle, palette), QObject::tr("low obstacle")},
+      {cellColour(CellLabel::kObstacle, palette), QObject::tr("low obstacle or too sparse")},
       {cellColour(CellLabel::kImpassable, palette), QObject::tr("impassable, walls")},
       {QColor(40, 120, 255), QObject::tr("robot (arrow: heading)")},
       {QColor(60, 60, 66), QObject::tr("grid 1 m; axes x red, y green, z blue")}};

@@ -11,6 +11,15 @@
 namespace clearway::pcd {
 namespace {
 
+// A piece of a line for an error message, with every byte that is not printable ASCII shown as
+// '?': a binary file opened as PCD must not write its bytes to the operator's terminal.
+std::string printableExcerpt(std::string_view text) {
+  std::string excerpt(text);
+  for (char& c : excerpt)
+    if (c < ' ' || c > '~') c = '?';
+  return excerpt;
+}
+
 std::vector<std::string> splitWords(std::string_view line) {
   std::vector<std::string> words;
   std::istringstream stream{std::string(line)};
@@ -147,8 +156,8 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
         throw ScanError(file, "PCD header: unknown DATA encoding '" + values[0] + "'");
       has_data = true;
     } else {
-      throw ScanError(
-          file, "not a PCD file: unexpected header line '" + std::string(line.substr(0, 60)) + "'");
+      throw ScanError(file, "not a PCD file: unexpected header line '" +
+                                printableExcerpt(line.substr(0, 60)) + "'");
     }
   }
   header.data_offset = position;

@@ -80,6 +80,21 @@ TEST_F(BadInput, NotAPcd) {
   expectScanError(write("text.pcd", "hello world\nthis is no pcd\n"), "not a PCD");
 }
 
+TEST_F(BadInput, BinaryBytesNamedPcdAreNotEchoed) {
+  std::string bytes = "\x01\x9b[2J\x07garbage\xff\x00tail\n";
+  bytes[9] = '\xfe';
+  try {
+    loadScan(write("random.pcd", bytes));
+    FAIL() << "loaded random bytes";
+  } catch (const ScanError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find("not a PCD"), std::string::npos) << message;
+    // Nothing of the file reaches the terminal but printable characters (no escape sequences).
+    for (const char c : message)
+      EXPECT_TRUE(c >= ' ' && c <= '~') << "byte " << int(static_cast<unsigned char>(c));
+  }
+}
+
 TEST_F(BadInput, PcdWithoutXyz) {
   const std::string header =
       "VERSION 0.7\nFIELDS a b\nSIZE 4 4\nTYPE F F\nCOUNT 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\nDATA "
