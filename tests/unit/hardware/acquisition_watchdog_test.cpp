@@ -144,9 +144,17 @@ TEST(AcquisitionStop, AStopRequestStopsTheDevicesAndKeepsTheLines) {
   EXPECT_TRUE(acquisition.stopped);
   EXPECT_FALSE(acquisition.complete);
   EXPECT_GT(acquisition.scan.lines.size(), 10u);
-  // The laser's continuous output is off: no more lines come.
-  std::this_thread::sleep_for(std::chrono::milliseconds(100));
-  const auto sent = emulator.linesSent();
+  // The laser's continuous output is off: no more lines come. Lines already on their way when
+  // the stop went out may still trickle in (a sanitizer build on a busy machine is slow to pass it
+  // on): first wait until a fifth of a second goes by without one, at most 3 s; a laser still
+  // streaming (a line every 7 ms here) never gets there.
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  auto sent = emulator.linesSent();
+  do {
+    sent = emulator.linesSent();
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  } while (emulator.linesSent() != sent && std::chrono::steady_clock::now() < give_up);
+  sent = emulator.linesSent();
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   EXPECT_EQ(emulator.linesSent(), sent);
 }
