@@ -43,4 +43,26 @@ void parallelChunks(std::size_t count, int threads, Work&& work) {
     if (error) std::rethrow_exception(error);
 }
 
+// Runs different tasks in parallel (one after the other with one thread): the first on the
+// caller's thread, which then helps with the others. Rethrows the first error, in task order.
+inline void parallelTasks(std::vector<std::function<void()>> tasks, int threads) {
+  std::vector<std::exception_ptr> errors(tasks.size());
+  for (std::size_t t = 0; t < tasks.size(); ++t)
+    tasks[t] = [task = std::move(tasks[t]), &error = errors[t]] {
+      try {
+        task();
+      } catch (...) {
+        error = std::current_exception();
+      }
+    };
+  if (threads > 1) {
+    runTasks(tasks);
+  } else {
+    for (auto& task : tasks)
+      task();
+  }
+  for (const std::exception_ptr& error : errors)
+    if (error) std::rethrow_exception(error);
+}
+
 }  // namespace clearway::detail

@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include "../segmentation/parallel.h"
 #include "cell_classes.h"
@@ -26,105 +28,104 @@ using detail::kExactTestSlackCells;
 using detail::kGreenMarginCells;
 using detail::makeFootprints;
 
-// Moves the robot's box over every free cell of `classes`: labels, reasons and orientations of
-// `map` (whose grid is set).
-// With `reach_into`, also searches where the robot can get from its own pose (map.robot_pose),
-// with this placement's tests, into that map's reach layer.
-void placeRobot(const CellClasses& classes, const Footprints& footprints, const RobotParams& robot,
-                int threads, TraversabilityMap& map, TraversabilityMap* reach_into = nullptr) {
+// Rows of a placement are dealt out in turn (row r to part r mod parts), so that the walls, where
+// the tests cost, are shared evenly; more parts than threads let a thread that is done early
+// (after the reachability search, say) take the rest.
+constexpr std::size_t kPartsPerThread = 4;
+
+// Moves the robot's box over the free cells of `classes` in rows part, part + parts, ...: labels,
+// reasons and orientations of `map` (whose grid is set).
+// With `pose_fits` not empty, every pose of every cell the box may fit in is tested and its fit
+// stored there (PoseFit per cell * orientations + k), for the reachability search: it visits
+// nearly all of them, and then only looks its fits up. Without, a cell's test stops at the first
+// fit.
+void placeRows(const CellClasses& classes, const Footprints& footprints,
+               const FootprintTester& tester, std::size_t part, std::size_t parts,
+               TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits) {
   const std::size_t orientations = map.yaws.size();
-  const FootprintTester tester(map.grid, classes, detail::toleratedUnknownCells(classes, map.grid),
-                               footprints, robot, threads);
   // Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged
   // box in every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
   const double coarse_radius = footprints.inner_radius + kGreenMarginCells;
   const double exact_radius = footprints.inner_radius - kExactTestSlackCells;
-  // With a search to follow, every pose of every cell the box may fit in is tested here, in
-  // parallel, once: the search visits nearly all of them, and then only looks its fits up
-  // (PoseFit per cell * orientations + k). Without, a cell's test stops at the first fit.
-  std::vector<std::uint8_t> pose_fits(reach_into ? map.grid.cells() * orientations : 0,
-                                      std::uint8_t(PoseFit::kBlocked));
-  // Rows are dealt out in turn (row r to part r mod parts): the walls, where the tests cost, are
-  // then shared evenly.
-  const std::size_t parts = std::size_t(std::max(threads, 1));
-  auto placeRows = [&](std::size_t part) {
-    for (int row = int(part); row < map.grid.height; row += int(parts)) {
-      // Neighbouring cells tend to fit the same way: start where the last cell fitted.
-      int last_fit = 0;
-      for (int column = 0; column < map.grid.width; ++column) {
-        const std::size_t cell = map.grid.index(column, row);
-        const CellState state = classes.state[cell];
-        if (state == CellState::kUnknown) continue;
-        if (state == CellState::kBlocked) {
-          map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
-          map.reasons[cell] = std::uint8_t(classes.reason[cell]);
-          continue;
-        }
-        const float free_radius = tester.clearance(column, row);
-        const bool coarse = free_radius >= coarse_radius;
-        const bool exact = tester.lenientClearance(column, row) >= exact_radius;
-        int fit = -1;
-        bool careful = false;
-        if (free_radius > footprints.outer_radius) {
-          fit = 0;
-          if (!pose_fits.empty())
-            std::fill_n(pose_fits.begin() + std::ptrdiff_t(cell * orientations), orientations,
-                        std::uint8_t(PoseFit::kClear));
-        } else if (!pose_fits.empty()) {
-          std::uint8_t* fits = pose_fits.data() + cell * orientations;
-          for (std::size_t k = 0; k < orientations; ++k)
-            if (coarse && tester.fitsEnlarged(column, row, int(k)))
-              fits[k] = std::uint8_t(PoseFit::kClear);
-            else if (exact && tester.fitsExactlyInCell(column, row, int(k)))
-              fits[k] = std::uint8_t(PoseFit::kCareful);
-          // The label's orientation as the loop below picks it: the first that fits green
-          // from the last cell's, else the first that fits at all.
-          for (const PoseFit wanted : {PoseFit::kClear, PoseFit::kCareful})
-            for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
-              const std::size_t k = (std::size_t(last_fit) + n) % orientations;
-              if (fits[k] == std::uint8_t(wanted)) {
-                fit = int(k);
-                careful = wanted == PoseFit::kCareful;
-              }
+  for (int row = int(part); row < map.grid.height; row += int(parts)) {
+    // Neighbouring cells tend to fit the same way: start where the last cell fitted.
+    int last_fit = 0;
+    for (int column = 0; column < map.grid.width; ++column) {
+      const std::size_t cell = map.grid.index(column, row);
+      const CellState state = classes.state[cell];
+      if (state == CellState::kUnknown) continue;
+      if (state == CellState::kBlocked) {
+        map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+        map.reasons[cell] = std::uint8_t(classes.reason[cell]);
+        continue;
+      }
+      const float free_radius = tester.clearance(column, row);
+      const bool coarse = free_radius >= coarse_radius;
+      const bool exact = tester.lenientClearance(column, row) >= exact_radius;
+      int fit = -1;
+      bool careful = false;
+      if (free_radius > footprints.outer_radius) {
+        fit = 0;
+        if (!pose_fits.empty())
+          std::fill_n(pose_fits.begin() + std::ptrdiff_t(cell * orientations), orientations,
+                      std::uint8_t(PoseFit::kClear));
+      } else if (!pose_fits.empty()) {
+        std::uint8_t* fits = pose_fits.data() + cell * orientations;
+        for (std::size_t k = 0; k < orientations; ++k)
+          if (coarse && tester.fitsEnlarged(column, row, int(k)))
+            fits[k] = std::uint8_t(PoseFit::kClear);
+          else if (exact && tester.fitsExactlyInCell(column, row, int(k)))
+            fits[k] = std::uint8_t(PoseFit::kCareful);
+        // The label's orientation as the loop below picks it: the first that fits green
+        // from the last cell's, else the first that fits at all.
+        for (const PoseFit wanted : {PoseFit::kClear, PoseFit::kCareful})
+          for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+            const std::size_t k = (std::size_t(last_fit) + n) % orientations;
+            if (fits[k] == std::uint8_t(wanted)) {
+              fit = int(k);
+              careful = wanted == PoseFit::kCareful;
             }
-        } else {
-          if (coarse)
-            for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
-              const int k = int((std::size_t(last_fit) + n) % orientations);
-              if (tester.fitsEnlarged(column, row, k)) fit = k;
+          }
+      } else {
+        if (coarse)
+          for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+            const int k = int((std::size_t(last_fit) + n) % orientations);
+            if (tester.fitsEnlarged(column, row, k)) fit = k;
+          }
+        if (fit < 0 && exact)
+          for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+            const int k = int((std::size_t(last_fit) + n) % orientations);
+            if (tester.fitsExactlyInCell(column, row, k)) {
+              fit = k;
+              careful = true;
             }
-          if (fit < 0 && exact)
-            for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
-              const int k = int((std::size_t(last_fit) + n) % orientations);
-              if (tester.fitsExactlyInCell(column, row, k)) {
-                fit = k;
-                careful = true;
-              }
-            }
-        }
-        if (fit >= 0) last_fit = fit;
-        if (fit < 0) {
-          map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
-          map.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);
-          continue;
-        }
-        map.orientation[cell] = std::uint8_t(fit);
-        if (state == CellState::kLowObstacle) {
-          map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
-        } else {
-          map.labels[cell] = std::uint8_t(careful ? CellLabel::kCareful : CellLabel::kTraversable);
-        }
+          }
+      }
+      if (fit >= 0) last_fit = fit;
+      if (fit < 0) {
+        map.labels[cell] = std::uint8_t(CellLabel::kImpassable);
+        map.reasons[cell] = std::uint8_t(CellReason::kTooNarrow);
+        continue;
+      }
+      map.orientation[cell] = std::uint8_t(fit);
+      if (state == CellState::kLowObstacle) {
+        map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
+      } else {
+        map.labels[cell] = std::uint8_t(careful ? CellLabel::kCareful : CellLabel::kTraversable);
       }
     }
-  };
+  }
+}
+
+// All rows of a placement, in parallel.
+void placeRobot(const CellClasses& classes, const Footprints& footprints,
+                const FootprintTester& tester, int threads, TraversabilityMap& map,
+                std::vector<std::uint8_t>& pose_fits) {
+  const std::size_t parts = std::size_t(std::max(threads, 1));
   detail::parallelChunks(parts, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t part = begin; part < end; ++part)
-      placeRows(part);
+      placeRows(classes, footprints, tester, part, parts, map, pose_fits);
   });
-  if (!reach_into) return;
-  // Where the robot can get from its own pose, on the fits found above: a look-up per pose.
-  // Cells that are not free, or where the box fits in no orientation, kept kBlocked throughout.
-  detail::searchReachable(*reach_into, pose_fits);
 }
 
 }  // namespace
@@ -216,16 +217,41 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
 
   // Sparse ground first counts as unobserved: green and careful only where no obstacle taller than
   // the step can hide under the box. Where the box fits only over sparse ground, the cell is orange
-  // (probably passable) with the reason "too sparse".
+  // (probably passable) with the reason "too sparse". The robot may drive over sparse ground with
+  // care: reachability uses the loose placement, which takes sparse ground as ground.
   const bool has_sparse =
       std::any_of(classes.sparse.begin(), classes.sparse.end(), [](std::uint8_t s) { return s; });
-  if (!has_sparse) {
-    placeRobot(classes, footprints, robot, threads, map, &map);
-  } else {
-    TraversabilityMap loose = map;
-    // The robot may drive over sparse ground with care: reachability uses the loose placement.
-    placeRobot(classes, footprints, robot, threads, loose, &map);
-    placeRobot(detail::withSparseBlocked(classes), footprints, robot, threads, map);
+  const CellClasses strict_classes =
+      has_sparse ? detail::withSparseBlocked(classes) : CellClasses{};
+  // The tests of both placements, built side by side.
+  std::optional<FootprintTester> loose_tester, strict_tester;
+  detail::parallelChunks(
+      has_sparse ? 2 : 1, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t part = begin; part < end; ++part) {
+          const CellClasses& tested = part == 0 ? classes : strict_classes;
+          (part == 0 ? loose_tester : strict_tester)
+              .emplace(map.grid, tested, detail::toleratedUnknownCells(tested, map.grid),
+                       footprints, robot, threads);
+        }
+      });
+  TraversabilityMap loose = has_sparse ? map : TraversabilityMap{};
+  TraversabilityMap& loose_placement = has_sparse ? loose : map;
+  std::vector<std::uint8_t> pose_fits(cells * map.yaws.size(), std::uint8_t(PoseFit::kBlocked));
+  placeRobot(classes, footprints, *loose_tester, threads, loose_placement, pose_fits);
+  // Where the robot can get from its own pose, on the fits found above (cells that are not free,
+  // or where the box fits in no orientation, kept kBlocked throughout), beside the placement on
+  // vouched-for ground: the search is one thread's work, the rows are shared by all.
+  std::vector<std::function<void()>> tasks = {[&] { detail::searchReachable(map, pose_fits); }};
+  if (has_sparse) {
+    const std::size_t parts = kPartsPerThread * std::size_t(std::max(threads, 1));
+    for (std::size_t part = 0; part < parts; ++part)
+      tasks.emplace_back([&, part, parts] {
+        std::vector<std::uint8_t> none;
+        placeRows(strict_classes, footprints, *strict_tester, part, parts, map, none);
+      });
+  }
+  detail::parallelTasks(std::move(tasks), threads);
+  if (has_sparse) {
     auto fits = [](std::uint8_t label) {
       return label == std::uint8_t(CellLabel::kTraversable) ||
              label == std::uint8_t(CellLabel::kCareful) ||
