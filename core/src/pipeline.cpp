@@ -6,6 +6,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "segmentation/parallel.h"
+
 namespace clearway {
 namespace {
 
@@ -103,8 +105,13 @@ PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysi
   result.timings.push_back({"traversability", millisecondsSince(start)});
   result.reason = resultReason(result.map, params.robot, *analysis);
   start = std::chrono::steady_clock::now();
-  result.scene = buildSceneGeometry(scan, *analysis, result.map, params.robot);
-  result.point_classes = classifyPoints(scan, *analysis, params.robot);
+  // The point classes do not depend on the map: beside the scene's parts.
+  detail::parallelTasks(
+      {[&] {
+         result.scene = buildSceneGeometry(scan, *analysis, result.map, params.robot, threads);
+       },
+       [&] { result.point_classes = classifyPoints(scan, *analysis, params.robot); }},
+      threads);
   result.timings.push_back({"scene", millisecondsSince(start)});
   for (const StageTiming& timing : result.timings)
     result.total_ms += timing.milliseconds;

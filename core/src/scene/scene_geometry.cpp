@@ -5,6 +5,8 @@
 #include <unordered_set>
 #include <vector>
 
+#include "../segmentation/parallel.h"
+
 namespace clearway {
 namespace {
 
@@ -32,76 +34,46 @@ constexpr int kMinDrawnCorners = 2;
 constexpr int kVoxelKeyBits = 21;
 constexpr std::uint64_t kVoxelKeyMask = (std::uint64_t{1} << kVoxelKeyBits) - 1;
 
-CellLabel labelAt(const TraversabilityMap& map, double x, double y) {
-  const Eigen::Vector2i cell = map.grid.cellOf(x, y);
-  if (!map.grid.inside(cell.x(), cell.y())) return CellLabel::kUnknown;
-  return map.label(cell.x(), cell.y());
-}
-
 bool drawnAsGround(CellLabel label) {
   return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
          label == CellLabel::kObstacle;
 }
 
-}  // namespace
-
-std::array<std::uint8_t, 3> labelColour(CellLabel label) {
-  switch (label) {
-    case CellLabel::kTraversable:
-      return {46, 160, 67};
-    case CellLabel::kCareful:
-      return {245, 140, 20};
-    case CellLabel::kObstacle:
-      return {255, 183, 77};
-    case CellLabel::kImpassable:
-      return {211, 47, 47};
-    case CellLabel::kStairs:
-      return {142, 68, 173};
-    case CellLabel::kUnknown:
-      break;
-  }
-  return {60, 60, 60};
-}
-
-SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
-                                 const TraversabilityMap& map, const RobotParams& robot) {
-  SceneGeometry scene;
-  if (!analysis.ground_found) return scene;  // nothing drawn that cannot be trusted
-  const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
-
-  // Ground: the scan-grid triangles whose centre lies on a cell the robot may use.
-  // Each ground point's cell label, looked up once; a triangle is drawn when at least two of its
-  // corners lie on cells the robot may use.
-  constexpr std::uint8_t kUnlabelled = 255;
-  std::vector<std::uint8_t> point_label(scan.size(), kUnlabelled);
-  auto labelOf = [&](std::uint32_t point) {
-    if (point_label[point] == kUnlabelled) {
-      const Point3f& p = scan.points[point];
-      const Eigen::Vector3d m = analysis.map_from_scanner * Eigen::Vector3d(p.x, p.y, p.z);
-      point_label[point] = std::uint8_t(labelAt(map, m.x(), m.y()));
-    }
-    return CellLabel(point_label[point]);
-  };
+// The drivable ground: the mesh's triangles at least two of whose corners lie on cells the robot
+// may use, with the vertices they use.
+void addGround(const Scan& scan, const ScanAnalysis& analysis, const TraversabilityMap& map,
+               SceneGeometry& scene) {
+  const GroundMesh& mesh = analysis.inputs.ground_mesh;
+  std::vector<std::uint8_t> vertex_label(mesh.points.size());
+  for (std::size_t v = 0; v < mesh.points.size(); ++v)
+    vertex_label[v] = mesh.cells[v] == GroundMesh::kOutsideGrid ? std::uint8_t(CellLabel::kUnknown)
+                                                                : map.labels[mesh.cells[v]];
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> vertex_of(scan.size(), kNone);
-  auto vertex = [&](std::uint32_t point) {
-    if (vertex_of[point] == kNone) {
-      vertex_of[point] = std::uint32_t(scene.vertices.size());
-      const Point3f& p = scan.points[point];
+  std::vector<std::uint32_t> drawn_vertex(mesh.points.size(), kNone);
+  auto vertex = [&](std::uint32_t v) {
+    if (drawn_vertex[v] == kNone) {
+      drawn_vertex[v] = std::uint32_t(scene.vertices.size());
+      const Point3f& p = scan.points[mesh.points[v]];
       scene.vertices.emplace_back(p.x, p.y, p.z);
-      scene.vertex_labels.push_back(labelOf(point));
+      scene.vertex_labels.push_back(CellLabel(vertex_label[v]));
     }
-    return vertex_of[point];
+    return drawn_vertex[v];
   };
-  for (const auto& triangle : analysis.inputs.ground_triangles) {
-    const int drawn = int(drawnAsGround(labelOf(triangle[0]))) +
-                      int(drawnAsGround(labelOf(triangle[1]))) +
-                      int(drawnAsGround(labelOf(triangle[2])));
+  for (const auto& triangle : mesh.triangles) {
+    const int drawn = int(drawnAsGround(CellLabel(vertex_label[triangle[0]]))) +
+                      int(drawnAsGround(CellLabel(vertex_label[triangle[1]]))) +
+                      int(drawnAsGround(CellLabel(vertex_label[triangle[2]])));
     if (drawn < kMinDrawnCorners) continue;
     scene.triangles.push_back({vertex(triangle[0]), vertex(triangle[1]), vertex(triangle[2])});
   }
+}
 
-  // Walls: upright boxes in the map frame, aligned with the wall (its normal projected on the
+// Walls: upright boxes in the map frame (returned in the scanner's), one per run of a wall's
+// supported cells.
+std::vector<SceneBox> wallBoxes(const ScanAnalysis& analysis) {
+  std::vector<SceneBox> walls;
+  const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
+  // Upright boxes in the map frame, aligned with the wall (its normal projected on the
   // ground), one per run of the wall's supported cells along it (so a door stays open), standing
   // on the ground and clipped below the lowest ceiling. The support image's own in-plane axes are
   // arbitrary, so they only serve to find the supported cells.
@@ -196,16 +168,22 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
       box.axes = (scanner_from_map.linear() * axes_in_map).cast<float>();
       box.half_size =
           Eigen::Vector3f(float((a1 - a0) / 2), kWallHalfThickness, float((top - bottom) / 2));
-      scene.walls.push_back(box);
+      walls.push_back(box);
     }
   }
 
-  // Obstacles: one cube per occupied voxel of points between the ground and the robot's top.
+  return walls;
+}
+
+// Obstacles: cubes of the points between the ground and the robot's top.
+std::vector<SceneBox> obstacleCubes(const ScanAnalysis& analysis, const RobotParams& robot) {
+  std::vector<SceneBox> cubes;
+  const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
+  // One cube per occupied voxel of points between the ground and the robot's top.
   std::unordered_set<std::uint64_t> voxels;
   const Eigen::Matrix3f axes = scanner_from_map.linear().cast<float>();
   for (const MapObstacle& o : analysis.inputs.obstacles) {
-    if (o.height <= 0.0F || o.height >= robot.height || scene.obstacles.size() >= kMaxCubes)
-      continue;
+    if (o.height <= 0.0F || o.height >= robot.height || cubes.size() >= kMaxCubes) continue;
     const auto ix = std::int64_t(std::floor(o.x / kCubeSize)),
                iy = std::int64_t(std::floor(o.y / kCubeSize)),
                iz = std::int64_t(std::floor(o.z / kCubeSize));
@@ -220,8 +198,41 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
     cube.axes = axes;
     cube.half_size = Eigen::Vector3f::Constant(kCubeSize / 2);
     cube.label = o.height <= robot.max_step ? CellLabel::kObstacle : CellLabel::kImpassable;
-    scene.obstacles.push_back(cube);
+    cubes.push_back(cube);
   }
+  return cubes;
+}
+
+}  // namespace
+
+std::array<std::uint8_t, 3> labelColour(CellLabel label) {
+  switch (label) {
+    case CellLabel::kTraversable:
+      return {46, 160, 67};
+    case CellLabel::kCareful:
+      return {245, 140, 20};
+    case CellLabel::kObstacle:
+      return {255, 183, 77};
+    case CellLabel::kImpassable:
+      return {211, 47, 47};
+    case CellLabel::kStairs:
+      return {142, 68, 173};
+    case CellLabel::kUnknown:
+      break;
+  }
+  return {60, 60, 60};
+}
+
+SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
+                                 const TraversabilityMap& map, const RobotParams& robot,
+                                 int threads) {
+  SceneGeometry scene;
+  if (!analysis.ground_found) return scene;  // nothing drawn that cannot be trusted
+  // The three parts share nothing: side by side.
+  detail::parallelTasks(
+      {[&] { addGround(scan, analysis, map, scene); }, [&] { scene.walls = wallBoxes(analysis); },
+       [&] { scene.obstacles = obstacleCubes(analysis, robot); }},
+      threads);
   return scene;
 }
 

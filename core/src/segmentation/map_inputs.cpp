@@ -150,19 +150,52 @@ void markGroundPointCells(MapInputs& inputs, const std::vector<std::int32_t>& gr
     if (lowest[cell] < std::numeric_limits<float>::max()) inputs.ground_height[cell] = lowest[cell];
 }
 
+// The triangles (scan point indices) as a mesh whose vertices know their cells, vertices in the
+// order the triangles first use them.
+GroundMesh meshOf(const std::vector<std::array<std::uint32_t, 3>>& triangles,
+                  const std::vector<Eigen::Vector2i>& cell_of, const MapGrid& grid) {
+  constexpr std::uint32_t kNoVertex = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> vertex_of(cell_of.size(), kNoVertex);
+  GroundMesh mesh;
+  mesh.triangles.reserve(triangles.size());
+  for (const auto& triangle : triangles) {
+    std::array<std::uint32_t, 3> corners{};
+    for (std::size_t i = 0; i < 3; ++i) {
+      const std::uint32_t point = triangle[i];
+      if (vertex_of[point] == kNoVertex) {
+        vertex_of[point] = std::uint32_t(mesh.points.size());
+        mesh.points.push_back(point);
+        const Eigen::Vector2i& cell = cell_of[point];
+        mesh.cells.push_back(grid.inside(cell.x(), cell.y())
+                                 ? std::uint32_t(grid.index(cell.x(), cell.y()))
+                                 : GroundMesh::kOutsideGrid);
+      }
+      corners[i] = vertex_of[point];
+    }
+    mesh.triangles.push_back(corners);
+  }
+  return mesh;
+}
+
 // The cells the ground triangles cover, at the triangle's height over each cell centre.
 void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& ground_of,
                        const std::vector<Eigen::Vector3f>& mapped,
                        const std::vector<Eigen::Vector2i>& cell_of, int threads) {
   const MapGrid& grid = inputs.grid;
+  const GroundMesh& mesh = inputs.ground_mesh;
+  auto pointsOf = [&mesh](std::size_t t) {
+    const std::array<std::uint32_t, 3>& corners = mesh.triangles[t];
+    return std::array<std::uint32_t, 3>{mesh.points[corners[0]], mesh.points[corners[1]],
+                                        mesh.points[corners[2]]};
+  };
   // Most triangles lie within two neighbouring cells, which their corners have marked already;
   // only the larger ones are filled.
   std::vector<std::vector<std::uint32_t>> large_parts(std::size_t(std::max(threads, 1)));
   detail::parallelChunks(
-      inputs.ground_triangles.size(), threads,
+      mesh.triangles.size(), threads,
       [&](std::size_t begin, std::size_t end, std::size_t part) {
         for (std::size_t t = begin; t < end; ++t) {
-          const auto& triangle = inputs.ground_triangles[t];
+          const std::array<std::uint32_t, 3> triangle = pointsOf(t);
           const Eigen::Vector2i &a = cell_of[triangle[0]], &b = cell_of[triangle[1]],
                                 &c = cell_of[triangle[2]];
           const Eigen::Vector2i span = a.cwiseMax(b).cwiseMax(c) - a.cwiseMin(b).cwiseMin(c);
@@ -179,7 +212,7 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
       std::size_t(grid.height), threads,
       [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
         for (const std::uint32_t t : large) {
-          const auto& triangle = inputs.ground_triangles[t];
+          const std::array<std::uint32_t, 3> triangle = pointsOf(t);
           const Eigen::Vector2d a = mapped[triangle[0]].head<2>().cast<double>(),
                                 b = mapped[triangle[1]].head<2>().cast<double>(),
                                 c = mapped[triangle[2]].head<2>().cast<double>();
@@ -395,8 +428,9 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
   const detail::EdgeLimit limit{mapped.positions, analysis.sensor, params.map.max_triangle_edge,
                                 std::max(detail::kLowestScannerHeight, scanner_z)};
-  inputs.ground_triangles =
-      detail::groundTriangles(scan, ground_of, limit, analysis.sensor, scanner_z, threads);
+  inputs.ground_mesh = meshOf(
+      detail::groundTriangles(scan, ground_of, limit, analysis.sensor, scanner_z, threads),
+      cell_of, inputs.grid);
   markTriangleCells(inputs, ground_of, mapped.positions, cell_of, threads);
   markSingleHoles(inputs);
 

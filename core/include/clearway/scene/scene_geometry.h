@@ -33,7 +33,9 @@ struct SceneGeometry {
 // RGB of each label, shared by the PNG map, the PLY scene and the GUI.
 std::array<std::uint8_t, 3> labelColour(CellLabel label);
 
+// The 3D view's geometry; its parts are built on up to `threads` threads.
 SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
-                                 const TraversabilityMap& map, const RobotParams& robot);
+                                 const TraversabilityMap& map, const RobotParams& robot,
+                                 int threads = 1);
 
 }  // namespace clearway

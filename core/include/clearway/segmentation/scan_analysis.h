@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -57,6 +58,16 @@ struct GroundContact {
   float step = 0.0F;
 };
 
+// The ground triangles between neighbouring scan lines as a mesh: each corner point once, with the
+// grid cell it lies in, and the triangles as indices into those corners. The 3D view colours it by
+// the robot's map without mapping a point again.
+struct GroundMesh {
+  static constexpr std::uint32_t kOutsideGrid = std::numeric_limits<std::uint32_t>::max();
+  std::vector<std::uint32_t> points;  // per vertex: its scan point
+  std::vector<std::uint32_t> cells;   // per vertex: its grid index, or kOutsideGrid
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // vertex indices
+};
+
 struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
@@ -67,7 +78,7 @@ struct MapInputs {
   std::vector<float> ground_spacing;
   std::vector<MapObstacle> obstacles;
   std::vector<GroundContact> contacts;
-  std::vector<std::array<std::uint32_t, 3>> ground_triangles;  // scan point indices
+  GroundMesh ground_mesh;
 };
 
 struct StageTiming {
