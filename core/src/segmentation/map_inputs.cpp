@@ -192,8 +192,7 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
   // only the larger ones are filled.
   std::vector<std::vector<std::uint32_t>> large_parts(std::size_t(std::max(threads, 1)));
   detail::parallelChunks(
-      mesh.triangles.size(), threads,
-      [&](std::size_t begin, std::size_t end, std::size_t part) {
+      mesh.triangles.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
         for (std::size_t t = begin; t < end; ++t) {
           const std::array<std::uint32_t, 3> triangle = pointsOf(t);
           const Eigen::Vector2i &a = cell_of[triangle[0]], &b = cell_of[triangle[1]],
@@ -428,9 +427,9 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
   const detail::EdgeLimit limit{mapped.positions, analysis.sensor, params.map.max_triangle_edge,
                                 std::max(detail::kLowestScannerHeight, scanner_z)};
-  inputs.ground_mesh = meshOf(
-      detail::groundTriangles(scan, ground_of, limit, analysis.sensor, scanner_z, threads),
-      cell_of, inputs.grid);
+  inputs.ground_mesh =
+      meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor, scanner_z, threads),
+             cell_of, inputs.grid);
   markTriangleCells(inputs, ground_of, mapped.positions, cell_of, threads);
   markSingleHoles(inputs);
 
