@@ -117,15 +117,19 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
   }
 }
 
-// All rows of a placement, in parallel.
-void placeRobot(const CellClasses& classes, const Footprints& footprints,
-                const FootprintTester& tester, int threads, TraversabilityMap& map,
-                std::vector<std::uint8_t>& pose_fits) {
-  const std::size_t parts = std::size_t(std::max(threads, 1));
-  detail::parallelChunks(parts, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t part = begin; part < end; ++part)
+// Tasks placing all rows of a placement, kPartsPerThread per thread.
+std::vector<std::function<void()>> placementTasks(const CellClasses& classes,
+                                                  const Footprints& footprints,
+                                                  const FootprintTester& tester, int threads,
+                                                  TraversabilityMap& map,
+                                                  std::vector<std::uint8_t>& pose_fits) {
+  const std::size_t parts = kPartsPerThread * std::size_t(std::max(threads, 1));
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t part = 0; part < parts; ++part)
+    tasks.emplace_back([&classes, &footprints, &tester, &map, &pose_fits, part, parts] {
       placeRows(classes, footprints, tester, part, parts, map, pose_fits);
-  });
+    });
+  return tasks;
 }
 
 }  // namespace
@@ -237,19 +241,18 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   TraversabilityMap loose = has_sparse ? map : TraversabilityMap{};
   TraversabilityMap& loose_placement = has_sparse ? loose : map;
   std::vector<std::uint8_t> pose_fits(cells * map.yaws.size(), std::uint8_t(PoseFit::kBlocked));
-  placeRobot(classes, footprints, *loose_tester, threads, loose_placement, pose_fits);
+  detail::parallelTasks(
+      placementTasks(classes, footprints, *loose_tester, threads, loose_placement, pose_fits),
+      threads);
   // Where the robot can get from its own pose, on the fits found above (cells that are not free,
   // or where the box fits in no orientation, kept kBlocked throughout), beside the placement on
   // vouched-for ground: the search is one thread's work, the rows are shared by all.
   std::vector<std::function<void()>> tasks = {[&] { detail::searchReachable(map, pose_fits); }};
-  if (has_sparse) {
-    const std::size_t parts = kPartsPerThread * std::size_t(std::max(threads, 1));
-    for (std::size_t part = 0; part < parts; ++part)
-      tasks.emplace_back([&, part, parts] {
-        std::vector<std::uint8_t> none;
-        placeRows(strict_classes, footprints, *strict_tester, part, parts, map, none);
-      });
-  }
+  std::vector<std::uint8_t> no_pose_fits;  // the first fit of each cell is enough here
+  if (has_sparse)
+    for (auto& task :
+         placementTasks(strict_classes, footprints, *strict_tester, threads, map, no_pose_fits))
+      tasks.push_back(std::move(task));
   detail::parallelTasks(std::move(tasks), threads);
   if (has_sparse) {
     auto fits = [](std::uint8_t label) {
