@@ -257,8 +257,44 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
     }
     return result;
   };
-  enlarged_ = linear(footprints.enlarged);
-  core_ = linear(footprints.core);
+  // Running counts per padded row, and the footprints as runs along rows.
+  const auto padded_rows = std::size_t(grid.height + 2 * pad_);
+  auto runningCounts = [&](const std::vector<std::uint8_t>& blocks) {
+    std::vector<std::uint16_t> counts(padded_rows * std::size_t(stride_ + 1));
+    for (std::size_t row = 0; row < padded_rows; ++row) {
+      const std::uint8_t* cells = blocks.data() + row * std::size_t(stride_);
+      std::uint16_t* running = counts.data() + row * std::size_t(stride_ + 1);
+      running[0] = 0;
+      for (std::size_t column = 0; column < std::size_t(stride_); ++column)
+        running[column + 1] = std::uint16_t(running[column] + (cells[column] != 0));
+    }
+    return counts;
+  };
+  strict_counts_ = runningCounts(strict_);
+  lenient_counts_ = runningCounts(lenient_);
+  auto runs = [&](const std::vector<std::vector<Offset>>& lists) {
+    std::vector<std::vector<Run>> result;
+    for (const auto& offsets : lists) {
+      std::vector<Offset> by_row = offsets;
+      std::sort(by_row.begin(), by_row.end(), [](const Offset& a, const Offset& b) {
+        return a.dy != b.dy ? a.dy < b.dy : a.dx < b.dx;
+      });
+      result.emplace_back();
+      for (std::size_t i = 0; i < by_row.size();) {
+        // A stretch of consecutive cells in one row (a rectangle's cells in a row always are).
+        std::size_t last = i;
+        while (last + 1 < by_row.size() && by_row[last + 1].dy == by_row[i].dy &&
+               by_row[last + 1].dx == by_row[last].dx + 1)
+          ++last;
+        const std::ptrdiff_t row_start = std::ptrdiff_t(by_row[i].dy) * (stride_ + 1);
+        result.back().push_back({row_start + by_row[i].dx, row_start + by_row[last].dx + 1});
+        i = last + 1;
+      }
+    }
+    return result;
+  };
+  enlarged_runs_ = runs(footprints.enlarged);
+  core_runs_ = runs(footprints.core);
   rim_ = linear(footprints.rim);
 
   // The 5 x 5 centres, the cell's centre first, then outwards.
@@ -354,26 +390,15 @@ bool FootprintTester::addCellPoints(std::size_t cell, std::size_t k, const Eigen
 }
 
 bool FootprintTester::fitsEnlarged(int column, int row, int orientation) const {
-  // Offsets nearer than the clearance are free: the distance transform vouches for them.
-  const auto k = std::size_t(orientation);
-  const std::uint8_t* here = strict_.data() + paddedIndex(column, row);
-  // Bytes may alias anything: the bounds and steps are taken out of the vectors first.
-  const std::ptrdiff_t* steps = enlarged_[k].data();
-  const std::size_t count = enlarged_[k].size();
-  for (std::size_t i = beyond(footprints_.enlarged[k], clearance(column, row)); i < count; ++i)
-    if (here[steps[i]]) return false;
-  return true;
+  return !holdsBlocking(strict_counts_, enlarged_runs_[std::size_t(orientation)], column, row);
 }
 
 bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) const {
   // Cheap necessary condition first: nothing that blocks deep inside the box.
   const auto k = std::size_t(orientation);
+  if (holdsBlocking(lenient_counts_, core_runs_[k], column, row)) return false;
   const float lenient_clearance = lenientClearance(column, row);
   const std::uint8_t* here = lenient_.data() + paddedIndex(column, row);
-  const std::ptrdiff_t* core = core_[k].data();
-  const std::size_t core_count = core_[k].size();
-  for (std::size_t i = beyond(footprints_.core[k], lenient_clearance); i < core_count; ++i)
-    if (here[core[i]]) return false;
   // What could touch the box, gathered once in the box's own frame (u along, v across), then
   // tried against the 5 x 5 centres a fifth of a cell apart, the cell's centre first.
   const Turn& turn = turns_[k];

@@ -157,7 +157,30 @@ class FootprintTester {
   enum SlotState : std::uint8_t { kSlotEmpty, kSlotFilling, kSlotReady };
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> slot_state_;
   // Per orientation, the footprints' offsets as steps in the padded arrays.
-  std::vector<std::vector<std::ptrdiff_t>> enlarged_, core_, rim_;
+  std::vector<std::vector<std::ptrdiff_t>> rim_;
+  // Per padded row, a running count (modulo 2^16) of the cells that block strictly / leniently,
+  // one more entry than the row has cells: a stretch of a row holds a blocking cell exactly when
+  // the counts at its two ends differ (a stretch is shorter than 2^16 cells).
+  std::vector<std::uint16_t> strict_counts_, lenient_counts_;
+  // A footprint's cells in one row, as the two ends of that stretch relative to the cell's own
+  // entry in the running counts.
+  struct Run {
+    std::ptrdiff_t start, end;
+  };
+  // Per orientation, the enlarged box and the core as runs: a test of either is one look at each
+  // of its rows, not at each of its cells.
+  std::vector<std::vector<Run>> enlarged_runs_, core_runs_;
+  std::size_t countsIndex(int column, int row) const {
+    return std::size_t(row + pad_) * std::size_t(stride_ + 1) + std::size_t(column + pad_);
+  }
+  // Whether any cell of `runs` around (column, row) blocks, by `counts`.
+  bool holdsBlocking(const std::vector<std::uint16_t>& counts, const std::vector<Run>& runs,
+                     int column, int row) const {
+    const std::uint16_t* here = counts.data() + countsIndex(column, row);
+    for (const Run& run : runs)
+      if (here[run.end] != here[run.start]) return true;
+    return false;
+  }
   std::vector<Turn> turns_;
 };
 
