@@ -159,6 +159,11 @@ Scan readUos(const std::filesystem::path& file, const LoadOptions& options) {
   return scan;
 }
 
+// A Velodyne sees at most about 120 m; a return farther than this is no measurement [m].
+constexpr double kFarthestVelodyneReturn = 1000.0;
+// A real frame holds no such record, or hardly any; a file with more is not a frame.
+constexpr double kImplausibleShare = 0.01;
+
 Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options) {
   const std::string bytes = readWholeFile(file, options.max_points * 16);
   constexpr std::size_t kRecord = 4 * sizeof(float);
@@ -170,12 +175,23 @@ Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options)
   scan.points.reserve(count);
   scan.status.reserve(count);
   scan.intensity.resize(count);
+  std::size_t implausible = 0;
   for (std::size_t i = 0; i < count; ++i) {
     float record[4];
     std::memcpy(record, bytes.data() + i * kRecord, kRecord);
     appendPoint(scan, record[0], record[1], record[2]);
     scan.intensity[i] = record[3];
+    const double range = std::sqrt(double(record[0]) * record[0] + double(record[1]) * record[1] +
+                                   double(record[2]) * record[2]);
+    if (!(range <= kFarthestVelodyneReturn) || !std::isfinite(record[3])) ++implausible;
   }
+  // The format has no header to check: a file of other bytes would load as meaningless points.
+  // Its floats are then mostly absurd (any bit pattern is some float), a real frame's never are.
+  if (double(implausible) > kImplausibleShare * double(count))
+    throw ScanError(file, "not a Velodyne frame: " + std::to_string(implausible) + " of " +
+                              std::to_string(count) +
+                              " records are not finite or lie over 1 km away (a KITTI .bin holds "
+                              "x, y, z and reflectance as 32-bit floats)");
   scan.metadata.format = "kitti bin";
   scan.metadata.frame = "as stored: metres, x forward, z up";
   // The format's frame is the Velodyne's on the car, z up by KITTI's definition (the car stands on

@@ -261,14 +261,28 @@ TEST_F(BadInput, RandomBytesNeverCrashAnyReader) {
     const auto file = write(name, noise);
     EXPECT_THROW(loadScan(file), ScanError) << name;
   }
-  // Random bytes of a whole number of records are a valid, if meaningless, KITTI file.
-  const auto kitti = write("noise.bin", noise);
-  EXPECT_NO_THROW({
-    try {
-      loadScan(kitti);
-    } catch (const ScanError&) {
-    }
-  });
+  // Random bytes of a whole number of 16-byte records: the format has no header, but the floats
+  // say it is no Velodyne frame.
+  expectScanError(write("noise.bin", noise), "not a Velodyne frame");
+}
+
+TEST_F(BadInput, KittiFileWithAbsurdCoordinates) {
+  // One record in ten at 1e30 m, the rest a plausible frame.
+  std::string bytes;
+  for (int i = 0; i < 100; ++i) {
+    const float record[4] = {i % 10 == 0 ? 1e30F : 5.0F + 0.01F * float(i), 2.0F, -1.7F, 0.3F};
+    bytes.append(reinterpret_cast<const char*>(record), sizeof record);
+  }
+  expectScanError(write("far.bin", bytes), "not a Velodyne frame");
+}
+
+TEST_F(BadInput, KittiFrameOfPlausibleRecordsLoads) {
+  std::string bytes;
+  for (int i = 0; i < 100; ++i) {
+    const float record[4] = {5.0F + 0.01F * float(i), 2.0F, -1.7F, 0.3F};
+    bytes.append(reinterpret_cast<const char*>(record), sizeof record);
+  }
+  EXPECT_EQ(loadScan(write("frame.bin", bytes)).size(), 100U);
 }
 
 }  // namespace

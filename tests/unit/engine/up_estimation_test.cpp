@@ -81,12 +81,13 @@ Case judge(const std::string& name, const Scan& scan, double degrees) {
 
 void expectNeverWrong(const std::vector<Case>& cases) {
   for (const Case& c : cases) {
-    std::cout << std::left << std::setw(28) << c.name << std::setw(6) << c.turn
+    std::cout << std::left << std::setw(28) << c.name << std::fixed << std::setprecision(0)
+              << std::setw(5) << c.turn << " deg  "
               << (c.outcome == Outcome::kRightFloor ? "right floor"
                   : c.outcome == Outcome::kRefused  ? "refused"
                                                     : "WRONG FLOOR")
-              << "  error " << std::fixed << std::setprecision(1) << c.error_deg
-              << " deg  confidence " << std::setprecision(2) << c.confidence << "\n";
+              << "  error " << std::setprecision(1) << c.error_deg << " deg  confidence "
+              << std::setprecision(2) << c.confidence << "\n";
     EXPECT_NE(c.outcome, Outcome::kWrongFloor) << c.name << " turned " << c.turn << " deg";
     if (c.outcome == Outcome::kRefused) {
       EXPECT_NE(c.reason.find("no pose"), std::string::npos) << c.name << ": " << c.reason;
