@@ -86,8 +86,11 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
   }
   report["planes"] = planes;
   const Eigen::Vector3d& up = analysis.up;
+  // Without a pose and without an estimate there is no up direction to report.
+  const bool has_up = analysis.pose_source != PoseSource::kNone;
   report["pose"] = {{"source", poseSourceName(analysis.pose_source)},
-                    {"up_in_scanner_frame", {up.x(), up.y(), up.z()}},
+                    {"up_in_scanner_frame", has_up ? nlohmann::ordered_json{up.x(), up.y(), up.z()}
+                                                   : nlohmann::ordered_json()},
                     {"confidence", analysis.up_confidence}};
   const TraversabilityMap& map = result.map;
   report["robot_pose"] = {{"x", map.robot_pose.x},

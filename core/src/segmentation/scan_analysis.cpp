@@ -96,6 +96,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
     }
     selectGround(analysis, params.ground);
   } else if (params.ground.estimate_up == 0) {
+    analysis.up_confidence = 0.0;  // no up direction was given or estimated
     analysis.reason =
         "the scan has no pose and estimating its up direction is off (--up none): give the pose "
         "(--pose/--up) or pick the floor";

@@ -153,6 +153,10 @@ TEST(PoseSources, TheCommandLineSaysWhereThePoseCameFrom) {
   const auto refused = nlohmann::json::parse(test::readBytes(folder / "none" / "report.json"));
   EXPECT_FALSE(refused.at("ground_found").get<bool>());
   EXPECT_NE(refused.at("reason").get<std::string>().find("no pose"), std::string::npos);
+  // Nothing was given or estimated: no up direction, and no confidence in one.
+  EXPECT_EQ(refused.at("pose").at("source"), "none");
+  EXPECT_TRUE(refused.at("pose").at("up_in_scanner_frame").is_null());
+  EXPECT_EQ(refused.at("pose").at("confidence").get<double>(), 0.0);
 
   const auto bad = test::runCli("segment " + test::shellQuote(file.string()) + " --pose 1,2 -o " +
                                 test::shellQuote(out.string()));

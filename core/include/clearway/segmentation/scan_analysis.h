@@ -96,7 +96,7 @@ struct ScanAnalysis {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // gravity's up in the scanner frame
   // Where `up` came from: the scan's pose (file, sidecar, operator) or the pipeline's estimate.
   PoseSource pose_source = PoseSource::kNone;
-  double up_confidence = 1.0;  // 1 for a given pose; the estimate's confidence otherwise
+  double up_confidence = 1.0;  // 1 for a given pose, the estimate's confidence, 0 with neither
   // The robot's frame seen from the scanner, when acquisition recorded it (a pose sidecar: the
   // arm's kinematics give robot_from_scanner, the robot's frame standing on its floor).
   std::optional<Eigen::Isometry3d> robot_from_scanner;
