@@ -4,6 +4,7 @@
 #include <QComboBox>
 #include <QDialogButtonBox>
 #include <QDoubleSpinBox>
+#include <QFile>
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
@@ -59,6 +60,10 @@ class ReviewAndExportTest : public QObject {
     QVERIFY(directory_.isValid());
     simulateInto(directory_.filePath("a_garage.pcd"), "garage");
     simulateInto(directory_.filePath("b_hallway.pcd"), "hallway");
+    // A note beside the scans, as the real-data folders have: Next must not offer it.
+    QFile note(directory_.filePath("c_SOURCE.txt"));
+    QVERIFY(note.open(QIODevice::WriteOnly));
+    note.write("Source: the simulator's garage and hallway.\n");
   }
 
   void nextAndPreviousWalkTheFolderAndTheRecentListRemembers() {

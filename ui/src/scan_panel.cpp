@@ -10,6 +10,8 @@
 #include <QToolButton>
 #include <QVBoxLayout>
 
+#include "clearway/io/scan_io.h"
+
 namespace clearway::ui {
 namespace {
 
@@ -88,7 +90,8 @@ bool ScanPanel::isScanFile(const QString& path) {
 QStringList ScanPanel::scansInFolder(const QString& folder) {
   QStringList scans;
   for (const QFileInfo& info : QDir(folder).entryInfoList(kScanPatterns, QDir::Files, QDir::Name))
-    scans << info.absoluteFilePath();
+    if (looksLikeScanFile(info.absoluteFilePath().toStdString()))  // not a README.txt
+      scans << info.absoluteFilePath();
   return scans;
 }
 

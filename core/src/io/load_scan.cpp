@@ -4,6 +4,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "ascii_rows.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/io/scan_lines.h"
 #include "readers.h"
@@ -48,6 +49,32 @@ ScanFormat formatFromPath(const std::filesystem::path& file) {
   if (extension == ".3d") return ScanFormat::kUos;
   throw ScanError(file, "unknown extension '" + extension +
                             "' (known: .pcd .ply .xyz .txt .dat .asc .bin .3d)");
+}
+
+bool looksLikeScanFile(const std::filesystem::path& file) {
+  ScanFormat format;
+  try {
+    format = formatFromPath(file);
+  } catch (const ScanError&) {
+    return false;
+  }
+  if (format != ScanFormat::kXyz) return true;
+  // The first few rows are enough: up to the last whole line of the file's first bytes.
+  constexpr std::size_t kBytesLookedAt = 4096;
+  std::ifstream stream(file, std::ios::binary);
+  std::string head(kBytesLookedAt, '\0');
+  stream.read(head.data(), std::streamsize(head.size()));
+  head.resize(std::size_t(stream.gcount()));
+  if (head.size() == kBytesLookedAt)
+    head.resize(head.rfind('\n') == std::string::npos ? 0 : head.rfind('\n') + 1);
+  std::size_t rows = 0;
+  try {
+    detail::parseNumberRows(file, head, 3,
+                            [&rows](const std::array<double, 4>&, std::size_t) { ++rows; }, {});
+  } catch (const ScanError&) {
+    return false;
+  }
+  return rows > 0;
 }
 
 std::string formatName(ScanFormat format) {

@@ -266,6 +266,18 @@ TEST_F(BadInput, RandomBytesNeverCrashAnyReader) {
   expectScanError(write("noise.bin", noise), "not a Velodyne frame");
 }
 
+// Folders of scans hold notes too: the console's Previous/Next must not offer them.
+TEST_F(BadInput, TextNotesInAScanFolderAreNoScans) {
+  EXPECT_FALSE(looksLikeScanFile(write("SOURCE.txt",
+                                       "Source: KITTI raw data, drive 0001.\n"
+                                       "Licence: CC BY-NC-SA 3.0.\n")));
+  EXPECT_FALSE(looksLikeScanFile(write("README.txt", "see the paper\n")));
+  EXPECT_FALSE(looksLikeScanFile(write("notes.md", "1 2 3\n")));  // not a scan extension
+  EXPECT_TRUE(looksLikeScanFile(write("points.txt", "# x y z\n1 2 3\n4 5 6\n")));
+  EXPECT_TRUE(looksLikeScanFile(write("header.xyz", "X Y Z\n1,2,3\n")));
+  EXPECT_TRUE(looksLikeScanFile(write("scan.pcd", "whatever: loadScan judges it")));
+}
+
 TEST_F(BadInput, KittiFileWithAbsurdCoordinates) {
   // One record in ten at 1e30 m, the rest a plausible frame.
   std::string bytes;

@@ -34,6 +34,11 @@ struct LoadOptions {
 ScanFormat formatFromPath(const std::filesystem::path& file);
 std::string formatName(ScanFormat format);
 
+// Whether a file found in a folder of scans is one: a known extension and, for the text formats
+// (whose .txt they share with README and SOURCE notes), first lines that are rows of at least three
+// numbers. For offering the files of a folder; loadScan says whether a scan is readable.
+bool looksLikeScanFile(const std::filesystem::path& file);
+
 // Loads any supported scan. Throws ScanError with a one-line reason for anything that is not a
 // readable scan (missing, truncated, corrupt, empty, absurd sizes), OperationCancelled on cancel.
 Scan loadScan(const std::filesystem::path& file, const LoadOptions& options = {});
