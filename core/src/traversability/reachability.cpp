@@ -31,6 +31,8 @@ constexpr double kTurnCost = 0.05;
 constexpr double kMountSearchStep = 0.1;
 // One blocking return inside the box outweighs this many unobserved cells under it.
 constexpr std::size_t kBlockingWeight = 1000;
+// The robot's place found by the search is kept to this [m].
+constexpr double kPoseQuantum = 1e-9;
 // A path keeps a pose at least every this many cells, besides every turn.
 constexpr int kPathPoseEvery = 10;
 
@@ -134,20 +136,35 @@ RobotPose robotPoseOnMap(const ScanAnalysis& analysis, const RobotParams& robot,
   }
   const MapGrid& grid = analysis.inputs.grid;
   const std::vector<std::int16_t>& ground_plane = analysis.inputs.ground_plane;
+  // What a sample of the box at map position (x, y) costs: its blocking returns, and whether the
+  // ground there is unobserved.
+  auto sampleCost = [&](double x, double y) {
+    std::size_t cost = 0;
+    const Eigen::Vector2i cell = cellOf(x, y);
+    if (cell.x() >= 0 && cell.y() >= 0 && cell.x() < side && cell.y() < side)
+      cost += kBlockingWeight *
+              blocking[std::size_t(cell.y()) * std::size_t(side) + std::size_t(cell.x())];
+    const Eigen::Vector2i map_cell = grid.cellOf(x, y);
+    cost += !grid.inside(map_cell.x(), map_cell.y()) ||
+            ground_plane[grid.index(map_cell.x(), map_cell.y())] < 0;
+    return cost;
+  };
+  // The box is sampled at the centres of a lattice `resolution` apart in its own frame.
+  int samples_along = 0, samples_across = 0;
+  for (double u = -half_length + resolution / 2; u < half_length; u += resolution)
+    ++samples_along;
+  for (double v = -half_width + resolution / 2; v < half_width; v += resolution)
+    ++samples_across;
   auto blockedInside = [&](const RobotPose& pose) {
     const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
-    std::size_t blocked = 0, unobserved = 0;
-    for (double u = -half_length + resolution / 2; u < half_length; u += resolution)
-      for (double v = -half_width + resolution / 2; v < half_width; v += resolution) {
-        const double x = pose.x + c * u - s * v, y = pose.y + s * u + c * v;
-        const Eigen::Vector2i cell = cellOf(x, y);
-        if (cell.x() >= 0 && cell.y() >= 0 && cell.x() < side && cell.y() < side)
-          blocked += blocking[std::size_t(cell.y()) * std::size_t(side) + std::size_t(cell.x())];
-        const Eigen::Vector2i map_cell = grid.cellOf(x, y);
-        unobserved += !grid.inside(map_cell.x(), map_cell.y()) ||
-                      ground_plane[grid.index(map_cell.x(), map_cell.y())] < 0;
+    std::size_t cost = 0;
+    for (int i = 0; i < samples_along; ++i)
+      for (int j = 0; j < samples_across; ++j) {
+        const double u = -half_length + (i + 0.5) * resolution;
+        const double v = -half_width + (j + 0.5) * resolution;
+        cost += sampleCost(pose.x + c * u - s * v, pose.y + s * u + c * v);
       }
-    return blocked * kBlockingWeight + unobserved;
+    return cost;
   };
   // The scanner at (mount_x, mount_y) of the robot's frame, the robot turned by yaw.
   auto poseFor = [&](double yaw, double mount_x, double mount_y) {
@@ -159,20 +176,55 @@ RobotPose robotPoseOnMap(const ScanAnalysis& analysis, const RobotParams& robot,
   RobotPose best = poseFor(headings.front(), robot.mount_x, robot.mount_y);
   std::size_t fewest = blockedInside(best);
   double best_shift = 0.0;
-  const double step = std::max(kMountSearchStep, resolution);
-  for (double yaw : headings)
-    for (double dx = -half_length; dx <= half_length + 1e-9 && fewest > 0; dx += step)
-      for (double dy = -half_width; dy <= half_width + 1e-9 && fewest > 0; dy += step) {
-        const RobotPose pose = poseFor(yaw, dx, dy);
-        const std::size_t inside = blockedInside(pose);
+  // The offsets tried are a whole number of lattice steps apart (kMountSearchStep or more): in one
+  // heading every box's samples are then points of one lattice, the box at offset (a, b) covering
+  // its points (i - a k, j - b k). Each lattice point is costed once, and a box's cost is the sum
+  // over a rectangle of them (a summed-area table).
+  const int lattice_steps = std::max(1, int(std::ceil(kMountSearchStep / resolution - 1e-9)));
+  const double step = lattice_steps * resolution;
+  const int offsets_along = int(std::floor(2 * half_length / step + 1e-9)) + 1;
+  const int offsets_across = int(std::floor(2 * half_width / step + 1e-9)) + 1;
+  const int low_along = -(offsets_along - 1) * lattice_steps;
+  const int low_across = -(offsets_across - 1) * lattice_steps;
+  const int lattice_along = samples_along - low_along;  // lattice points along u
+  const int lattice_across = samples_across - low_across;
+  std::vector<std::size_t> table(std::size_t(lattice_along + 1) * std::size_t(lattice_across + 1));
+  auto at = [&](int m, int n) -> std::size_t& {
+    return table[std::size_t(m) * std::size_t(lattice_across + 1) + std::size_t(n)];
+  };
+  for (const double yaw : headings) {
+    if (fewest == 0) break;
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    // at(m, n): the cost of lattice points [0, m) x [0, n) (indices from low_along, low_across).
+    for (int m = 0; m < lattice_along; ++m)
+      for (int n = 0; n < lattice_across; ++n) {
+        const double u = (m + low_along + 0.5) * resolution;
+        const double v = (n + low_across + 0.5) * resolution;
+        at(m + 1, n + 1) =
+            sampleCost(c * u - s * v, s * u + c * v) + at(m, n + 1) + at(m + 1, n) - at(m, n);
+      }
+    for (int a = 0; a < offsets_along && fewest > 0; ++a)
+      for (int b = 0; b < offsets_across && fewest > 0; ++b) {
+        // Sample i of the box at offset a lies at u - dx = (i - a k + 1/2) res: lattice index
+        // i - a k - low_along.
+        const int first_m = (offsets_along - 1 - a) * lattice_steps;
+        const int first_n = (offsets_across - 1 - b) * lattice_steps;
+        const std::size_t inside = at(first_m + samples_along, first_n + samples_across) -
+                                   at(first_m, first_n + samples_across) -
+                                   at(first_m + samples_along, first_n) + at(first_m, first_n);
+        const double dx = -half_length + a * step, dy = -half_width + b * step;
         const double shift = std::hypot(dx - robot.mount_x, dy - robot.mount_y);
         if (inside < fewest || (inside == fewest && shift < best_shift)) {
           fewest = inside;
-          best = pose;
+          best = poseFor(yaw, dx, dy);
           best_shift = shift;
         }
       }
-  return best;
+  }
+  // To the nanometre: the rounding of the offsets' sums must not decide which cells a box edge
+  // that falls on a cell boundary takes.
+  auto snap = [](double metres) { return std::round(metres / kPoseQuantum) * kPoseQuantum; };
+  return {snap(best.x), snap(best.y), best.yaw};
 }
 
 namespace detail {

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "clearway/traversability/reachability.h"
 #include "clearway/traversability/traversability_map.h"
 #include "hand_built_map.h"
 
@@ -310,6 +311,45 @@ TEST(TraversabilityStage, AnOpenFloorIsGreenWhereverTheBoxFitsAndReachable) {
   EXPECT_TRUE(own.reachable);
   EXPECT_NEAR(map.robot_pose.x, 0.3, 1e-9);
   EXPECT_NEAR(map.robot_pose.yaw, 0.4, 1e-9);
+}
+
+// Without a recorded pose the robot stands where its box, holding the scanner's foot (the map's
+// origin), holds no blocking return: a wall beside the scanner pushes it to the other side, in
+// whichever direction the wall lies, and a box that fits stays at the mounting's offset.
+TEST(TraversabilityStage, WithoutARecordedPoseTheRobotStandsClearOfAWallBesideTheScanner) {
+  const RobotParams robot = testRobot();
+  struct Wall {
+    Eigen::Vector2d from, to;
+    Eigen::Vector2d away;  // the side of the scanner the box must move to
+  };
+  const Wall walls[] = {{{-3.0, 0.3}, {3.0, 0.3}, {0.0, -1.0}},
+                        {{-3.0, -0.3}, {3.0, -0.3}, {0.0, 1.0}},
+                        {{0.35, -3.0}, {0.35, 3.0}, {-1.0, 0.0}},
+                        {{-0.35, -3.0}, {-0.35, 3.0}, {1.0, 0.0}}};
+  for (const Wall& wall : walls) {
+    HandBuiltMap built(-4.0, -4.0, 4.0, 4.0);
+    built.floor(-3.5, -3.5, 3.5, 3.5).face(wall.from, wall.to, kWallLow, kWallHigh);
+    const RobotPose pose = robotPoseOnMap(built.analysis(), robot, {0.0, std::numbers::pi / 2});
+    const double c = std::cos(pose.yaw), s = std::sin(pose.yaw);
+    auto inBox = [&](const Eigen::Vector2d& p) {
+      const Eigen::Vector2d d = p - Eigen::Vector2d(pose.x, pose.y);
+      return std::abs(d.x() * c + d.y() * s) <= robot.length / 2 + 1e-9 &&
+             std::abs(-d.x() * s + d.y() * c) <= robot.width / 2 + 1e-9;
+    };
+    const std::string where =
+        "wall from " + std::to_string(wall.from.x()) + ", " + std::to_string(wall.from.y());
+    EXPECT_TRUE(inBox(Eigen::Vector2d::Zero())) << where << ": the scanner's foot is off the box";
+    for (const MapObstacle& o : built.analysis().inputs.obstacles)
+      ASSERT_FALSE(inBox({o.x, o.y}))
+          << where << ": a wall return at " << o.x << ", " << o.y << " is inside the box";
+    EXPECT_GT(Eigen::Vector2d(pose.x, pose.y).dot(wall.away), 0.0) << where;
+  }
+  // Nothing near: the box stays where the mounting puts it.
+  HandBuiltMap open(-4.0, -4.0, 4.0, 4.0);
+  open.floor(-3.5, -3.5, 3.5, 3.5);
+  const RobotPose pose = robotPoseOnMap(open.analysis(), robot, {0.0, std::numbers::pi / 2});
+  EXPECT_NEAR(pose.x, -robot.mount_x, 1e-9);
+  EXPECT_NEAR(pose.y, -robot.mount_y, 1e-9);
 }
 
 }  // namespace
