@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -151,29 +152,35 @@ void markGroundPointCells(MapInputs& inputs, const std::vector<std::int32_t>& gr
 }
 
 // The triangles (scan point indices) as a mesh whose vertices know their cells, vertices in the
-// order the triangles first use them.
-GroundMesh meshOf(const std::vector<std::array<std::uint32_t, 3>>& triangles,
-                  const std::vector<Eigen::Vector2i>& cell_of, const MapGrid& grid) {
-  constexpr std::uint32_t kNoVertex = std::numeric_limits<std::uint32_t>::max();
-  std::vector<std::uint32_t> vertex_of(cell_of.size(), kNoVertex);
+// order of their points.
+GroundMesh meshOf(std::vector<std::array<std::uint32_t, 3>> triangles,
+                  const std::vector<Eigen::Vector2i>& cell_of, const MapGrid& grid, int threads) {
+  // The corners' points marked in parallel (every store writes the same 1), numbered in order,
+  // and the triangles' corners replaced by those numbers in parallel.
+  std::vector<std::uint32_t> vertex_of(cell_of.size(), 0);
+  detail::parallelChunks(
+      triangles.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t t = begin; t < end; ++t)
+          for (const std::uint32_t point : triangles[t])
+            std::atomic_ref<std::uint32_t>(vertex_of[point]).store(1, std::memory_order_relaxed);
+      });
   GroundMesh mesh;
-  mesh.triangles.reserve(triangles.size());
-  for (const auto& triangle : triangles) {
-    std::array<std::uint32_t, 3> corners{};
-    for (std::size_t i = 0; i < 3; ++i) {
-      const std::uint32_t point = triangle[i];
-      if (vertex_of[point] == kNoVertex) {
-        vertex_of[point] = std::uint32_t(mesh.points.size());
-        mesh.points.push_back(point);
-        const Eigen::Vector2i& cell = cell_of[point];
-        mesh.cells.push_back(grid.inside(cell.x(), cell.y())
-                                 ? std::uint32_t(grid.index(cell.x(), cell.y()))
-                                 : GroundMesh::kOutsideGrid);
-      }
-      corners[i] = vertex_of[point];
-    }
-    mesh.triangles.push_back(corners);
+  for (std::size_t point = 0; point < vertex_of.size(); ++point) {
+    if (!vertex_of[point]) continue;
+    vertex_of[point] = std::uint32_t(mesh.points.size());
+    mesh.points.push_back(std::uint32_t(point));
+    const Eigen::Vector2i& cell = cell_of[point];
+    mesh.cells.push_back(grid.inside(cell.x(), cell.y())
+                             ? std::uint32_t(grid.index(cell.x(), cell.y()))
+                             : GroundMesh::kOutsideGrid);
   }
+  detail::parallelChunks(triangles.size(), threads,
+                         [&](std::size_t begin, std::size_t end, std::size_t) {
+                           for (std::size_t t = begin; t < end; ++t)
+                             for (std::uint32_t& corner : triangles[t])
+                               corner = vertex_of[corner];
+                         });
+  mesh.triangles = std::move(triangles);
   return mesh;
 }
 
@@ -429,7 +436,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                                 std::max(detail::kLowestScannerHeight, scanner_z)};
   inputs.ground_mesh =
       meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor, scanner_z, threads),
-             cell_of, inputs.grid);
+             cell_of, inputs.grid, threads);
   markTriangleCells(inputs, ground_of, mapped.positions, cell_of, threads);
   markSingleHoles(inputs);
 
