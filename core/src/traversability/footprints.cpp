@@ -214,7 +214,7 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   const std::size_t padded = std::size_t(stride_) * std::size_t(grid.height + 2 * pad_);
   strict_.assign(padded, 1);
   lenient_.assign(padded, 2);
-  point_bounds_.resize(grid.cells());
+  point_cell_.assign(grid.cells(), kNoPoints);
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row), here = paddedIndex(column, row);
@@ -229,7 +229,8 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
       }
       const std::uint32_t first = classes.point_start[cell], last = classes.point_start[cell + 1];
       if (first == last) continue;
-      PointBounds& bounds = point_bounds_[cell];
+      point_cell_[cell] = std::uint32_t(point_bounds_.size());
+      PointBounds& bounds = point_bounds_.emplace_back();
       bounds.min_x = bounds.max_x = classes.xs[first];
       bounds.min_y = bounds.max_y = classes.ys[first];
       for (std::uint32_t p = first + 1; p < last; ++p) {
@@ -239,13 +240,7 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
         bounds.max_y = std::max(bounds.max_y, double(classes.ys[p]));
       }
     }
-  first_slot_.assign(grid.cells(), kNoPoints);
-  std::size_t slots = 0;
-  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
-    if (classes.point_start[cell] != classes.point_start[cell + 1]) {
-      first_slot_[cell] = std::uint32_t(slots);
-      slots += footprints.yaw.size();
-    }
+  const std::size_t slots = point_bounds_.size() * footprints.yaw.size();
   extremes_.resize(slots);
   slot_state_ = std::make_unique<std::atomic<std::uint8_t>[]>(slots);  // all kSlotEmpty
   auto linear = [&](const std::vector<std::vector<Offset>>& lists) {
@@ -316,7 +311,7 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
 }
 
 const FootprintTester::Extremes* FootprintTester::extremes(std::size_t cell, std::size_t k) const {
-  const std::size_t slot = first_slot_[cell] + k;
+  const std::size_t slot = std::size_t(point_cell_[cell]) * footprints_.yaw.size() + k;
   std::atomic<std::uint8_t>& state = slot_state_[slot];
   if (state.load(std::memory_order_acquire) == kSlotReady) return &extremes_[slot];
   std::uint8_t expected = kSlotEmpty;
@@ -359,7 +354,7 @@ bool FootprintTester::addCellPoints(std::size_t cell, std::size_t k, const Eigen
   const Turn& turn = turns_[k];
   const double c = turn.c, s = turn.s, shift = turn.shift;
   // The cell's points as a whole, by their bounds in the box's frame.
-  const PointBounds& b = point_bounds_[cell];
+  const PointBounds& b = point_bounds_[point_cell_[cell]];
   const double x0 = b.min_x - centre.x(), x1 = b.max_x - centre.x();
   const double y0 = b.min_y - centre.y(), y1 = b.max_y - centre.y();
   const Range u(x0 * c, x1 * c, y0 * s, y1 * s), v(-x0 * s, -x1 * s, y0 * c, y1 * c);

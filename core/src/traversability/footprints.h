@@ -148,11 +148,12 @@ class FootprintTester {
   // One byte per cell, so each offset costs one read: strict (blocked or unobserved) and lenient
   // (0 passable, 1 blocked by measured points only, 2 blocked otherwise). A border as wide as the
   // largest footprint stands for the outside of the map, which blocks: no bounds checks.
-  std::vector<std::uint8_t> strict_;       // padded
-  std::vector<std::uint8_t> lenient_;      // padded
-  std::vector<PointBounds> point_bounds_;  // per cell with blocking points
-  // Per cell with blocking points, its first slot of orientations in extremes_ (else kNoPoints).
-  std::vector<std::uint32_t> first_slot_;
+  std::vector<std::uint8_t> strict_;   // padded
+  std::vector<std::uint8_t> lenient_;  // padded
+  // Per cell: its number among the cells with blocking points (else kNoPoints). Those cells'
+  // bounds, and their slots of orientations in extremes_ (number * orientations + k).
+  std::vector<std::uint32_t> point_cell_;
+  std::vector<PointBounds> point_bounds_;
   mutable std::vector<Extremes> extremes_;
   enum SlotState : std::uint8_t { kSlotEmpty, kSlotFilling, kSlotReady };
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> slot_state_;
