@@ -14,6 +14,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <queue>
+#include <utility>
 
 #include "clearway/traversability/traversability_map.h"
 #include "reachability_search.h"
@@ -428,6 +430,52 @@ void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& po
 
 }  // namespace detail
 
+namespace {
+
+// Per dense cell, the cheapest cost to the goal's dense cell over 8-neighbour moves, a move costing
+// its length times the cheapest fitting pose's factor in the cell it enters (infinite where the
+// goal cannot be reached). Dijkstra from the goal.
+std::vector<double> cheapestToGoal(const MapGrid& grid, const std::vector<std::int32_t>& dense_cell,
+                                   const std::vector<std::size_t>& cell_of,
+                                   const std::vector<double>& factor, std::size_t orientations,
+                                   std::size_t goal) {
+  constexpr double kInfinity = std::numeric_limits<double>::infinity();
+  std::vector<double> cheapest_factor(cell_of.size(), kInfinity);
+  for (std::size_t d = 0; d < cell_of.size(); ++d)
+    for (std::size_t k = 0; k < orientations; ++k)
+      if (const double f = factor[d * orientations + k]; f > 0.0)
+        cheapest_factor[d] = std::min(cheapest_factor[d], f);
+  std::vector<double> remaining(cell_of.size(), kInfinity);
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  remaining[goal] = 0.0;
+  queue.push({0.0, goal});
+  while (!queue.empty()) {
+    const auto [to_goal, dense] = queue.top();
+    queue.pop();
+    if (to_goal > remaining[dense]) continue;  // a stale entry
+    const std::size_t cell = cell_of[dense];
+    const int row = int(cell / std::size_t(grid.width));
+    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
+    for (int n = 0; n < 8; ++n) {
+      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
+      if (!grid.inside(c, r)) continue;
+      const std::int32_t from = dense_cell[grid.index(c, r)];
+      if (from < 0) continue;
+      // From the neighbour into this cell.
+      const double step = grid.resolution * (n < 4 ? 1.0 : std::numbers::sqrt2);
+      const double through = to_goal + step * cheapest_factor[dense];
+      if (through < remaining[std::size_t(from)]) {
+        remaining[std::size_t(from)] = through;
+        queue.push({through, std::size_t(from)});
+      }
+    }
+  }
+  return remaining;
+}
+
+}  // namespace
+
 GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) {
   GoalResult result;
   const MapGrid& grid = map.grid;
@@ -491,14 +539,16 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   }
   const std::size_t first =
       std::size_t(start_cell) * orientations + std::size_t(map.robot_orientation);
-  // A*: the straight-line distance to the goal never overestimates (green costs 1 per metre, turns
-  // cost more than nothing), so the first time the goal leaves the queue its path is cheapest.
-  const Eigen::Vector2d goal_centre = grid.centre(goal.x(), goal.y());
-  std::vector<double> remaining(cell_of.size());  // the heuristic per dense cell
-  for (std::size_t d = 0; d < cell_of.size(); ++d) {
-    const int row = int(cell_of[d] / std::size_t(grid.width));
-    const int column = int(cell_of[d] - std::size_t(row) * std::size_t(grid.width));
-    remaining[d] = (grid.centre(column, row) - goal_centre).norm();
+  // A* with, as the heuristic, the cheapest way to the goal over the reachable cells when every
+  // cell is entered at its cheapest fitting pose and turns are free: it never overestimates (the
+  // search only adds turns and the poses' constraints) and it is consistent, so the first time the
+  // goal leaves the queue its path is cheapest. Unlike the straight line, it knows where the doors
+  // are: across a winding route the straight line sent the search over most of the map's poses.
+  const std::vector<double> remaining = cheapestToGoal(
+      grid, dense_cell, cell_of, factor, orientations, std::size_t(dense_cell[goal_cell]));
+  if (!std::isfinite(remaining[std::size_t(start_cell)])) {
+    result.reason = "no path found to the goal";
+    return result;
   }
   cost[first] = 0.0;
   queue.push({remaining[std::size_t(start_cell)], first});
@@ -518,7 +568,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
       break;
     }
     auto relax = [&](std::size_t next, double next_remaining, double step) {
-      if (factor[next] == 0.0) return;
+      if (factor[next] == 0.0 || !std::isfinite(next_remaining)) return;
       const double next_cost = here_cost + step * factor[next];
       if (next_cost < cost[next]) {
         cost[next] = next_cost;
