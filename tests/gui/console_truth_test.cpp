@@ -5,7 +5,10 @@
 #include <QAction>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
+#include <QFile>
 #include <QGroupBox>
+#include <QJsonDocument>
+#include <QJsonObject>
 #include <QLabel>
 #include <QMenu>
 #include <QMenuBar>
@@ -21,6 +24,8 @@
 #include <QToolButton>
 #include <QtTest>
 
+#include "clearway/io/scan_io.h"
+#include "clearway/pose.h"
 #include "clearway/ui/hardware_panel.h"
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/map_view.h"
@@ -121,7 +126,8 @@ class ConsoleTruthTest : public QObject {
     QSignalSpy shown(&window, &MainWindow::resultShown);
     window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
     QVERIFY(shown.wait(kTimeoutMs));
-    QVERIFY(window.findChild<QLabel*>("scanAge")->text().contains("Scan taken"));
+    // The sample has no acquisition record: its file's time is when it was saved, not taken.
+    QVERIFY(window.findChild<QLabel*>("scanAge")->text().contains("Scan file saved"));
     QVERIFY(!window.mapView()->isStale());
     HardwarePanel* panel = window.hardwarePanel();
     panel->setScanFolder(directory_.filePath("acquired"));
@@ -282,6 +288,38 @@ class ConsoleTruthTest : public QObject {
     QVERIFY(dialog.findChild<QGroupBox*>("group_map"));
   }
 
+  // A copied scan's file time is the copy's: when acquisition recorded the time in the pose
+  // sidecar, that is when the scan was taken.
+  void theScanTimeIsTheAcquisitionsRecordNotTheFilesTime() {
+    const QString scan = directory_.filePath("recorded.pcd");
+    QFile::remove(scan);
+    QVERIFY(QFile::copy(CLEARWAY_SAMPLES_DIR "/garage.pcd", scan));
+    const clearway::Scan loaded = clearway::loadScan(scan.toStdString());
+    QVERIFY(loaded.sensor_pose.has_value());
+    const QString sidecar = directory_.filePath("recorded.pose.json");
+    clearway::writePoseSidecar(*loaded.sensor_pose, "arm", sidecar.toStdString());
+    QFile file(sidecar);
+    QVERIFY(file.open(QIODevice::ReadOnly));
+    QJsonObject json = QJsonDocument::fromJson(file.readAll()).object();
+    file.close();
+    json.insert("time", "2021-03-04T05:06:07Z");
+    QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+    file.write(QJsonDocument(json).toJson());
+    file.close();
+
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(scan);
+    QVERIFY(shown.wait(kTimeoutMs));
+    const QDateTime taken = QDateTime::fromString("2021-03-04T05:06:07Z", Qt::ISODate);
+    const QString summary = window.findChild<QLabel*>("scanInfo")->text();
+    QVERIFY2(
+        summary.contains("Taken " + QLocale().toString(taken.toLocalTime(), QLocale::ShortFormat)),
+        qPrintable(summary));
+    QVERIFY(window.findChild<QLabel*>("scanAge")->text().contains("Scan taken"));
+  }
+
   void theScanPanelSpeaksInWordsWithDetailsBehindAToggle() {
     MainWindow window;
     window.show();
@@ -290,7 +328,7 @@ class ConsoleTruthTest : public QObject {
     QVERIFY(shown.wait(kTimeoutMs));
     const QString summary = window.findChild<QLabel*>("scanInfo")->text();
     QVERIFY(summary.contains("scan lines"));
-    QVERIFY(summary.contains("Taken"));
+    QVERIFY(summary.contains("File saved"));
     auto* details = window.findChild<QLabel*>("scanDetails");
     QVERIFY(!details->isVisible());
     window.findChild<QToolButton*>("scanDetailsToggle")->click();

@@ -69,8 +69,11 @@ QString humanSummary(const SessionResult& result) {
                      .arg(QFileInfo(result.scan_path).fileName().toHtmlEscaped())
                      .arg(QLocale().toString(qulonglong(facts.valid_points)))
                      .arg(facts.scan_lines);
+  // Only acquisition's own record says when the scan was taken; a file's time says when it was
+  // saved (or copied).
   if (result.scan_time.isValid())
-    text += QObject::tr("<br>Taken %1 (%2)")
+    text += (result.scan_time_recorded ? QObject::tr("<br>Taken %1 (%2)")
+                                       : QObject::tr("<br>File saved %1 (%2)"))
                 .arg(QLocale().toString(result.scan_time, QLocale::ShortFormat))
                 .arg(ageInWords(result.scan_time));
   const PipelineResult& pipeline = *result.result;
@@ -371,9 +374,10 @@ void MainWindow::updateAge() {
     return;
   }
   const QString age = ageInWords(d_->shown.scan_time);
-  d_->age->setText(tr("Scan taken %1, %2")
-                       .arg(QLocale().toString(d_->shown.scan_time.time(), QLocale::ShortFormat))
-                       .arg(age));
+  d_->age->setText(
+      (d_->shown.scan_time_recorded ? tr("Scan taken %1, %2") : tr("Scan file saved %1, %2"))
+          .arg(QLocale().toString(d_->shown.scan_time.time(), QLocale::ShortFormat))
+          .arg(age));
   if (d_->shown_is_previous) {
     const QString note =
         tr("Previous scan, %1 — a new scan is being acquired; do not plan on this map.").arg(age);

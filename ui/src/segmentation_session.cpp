@@ -1,7 +1,11 @@
 #include "clearway/ui/segmentation_session.h"
 
+#include <QFile>
 #include <QFileInfo>
 #include <QFutureWatcher>
+#include <QJsonDocument>
+#include <QJsonObject>
+#include <QJsonValue>
 #include <QPointer>
 #include <QTimer>
 #include <QtConcurrent/QtConcurrentRun>
@@ -9,9 +13,22 @@
 #include <atomic>
 
 #include "clearway/io/scan_io.h"
+#include "clearway/pose.h"
 
 namespace clearway::ui {
 namespace {
+
+// The time acquisition wrote into the scan's pose sidecar ("time", ISO 8601 UTC), when there is
+// one: a copied or re-saved file's modification time is not when the scan was taken.
+QDateTime recordedScanTime(const QString& scan_path) {
+  const auto sidecar = findPoseSidecar(scan_path.toStdString());
+  if (!sidecar) return {};
+  QFile file(QString::fromStdString(sidecar->string()));
+  if (!file.open(QIODevice::ReadOnly)) return {};
+  const QJsonValue time = QJsonDocument::fromJson(file.readAll()).object().value("time");
+  QDateTime parsed = QDateTime::fromString(time.toString(), Qt::ISODate);
+  return parsed.isValid() ? parsed.toLocalTime() : QDateTime();
+}
 
 struct JobOutcome {
   SessionResult result;
@@ -47,6 +64,10 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
         }));
     outcome.result.scan = std::move(scan);
     outcome.result.scan_time = QFileInfo(path).lastModified();
+    if (const QDateTime recorded = recordedScanTime(path); recorded.isValid()) {
+      outcome.result.scan_time = recorded;
+      outcome.result.scan_time_recorded = true;
+    }
     outcome.result.result = std::move(result);
   } catch (const OperationCancelled&) {
     outcome.cancelled = true;

@@ -21,8 +21,10 @@ struct SessionResult {
   std::shared_ptr<const Scan> scan;
   std::shared_ptr<const PipelineResult> result;
   QString scan_path;
-  // When the scan was taken: the file's modification time (acquisitions are saved as they end).
+  // When the scan was taken: the time acquisition recorded in its pose sidecar when there is one
+  // (scan_time_recorded), else when the file was last saved (a copy's time, for a copied file).
   QDateTime scan_time;
+  bool scan_time_recorded = false;
   // Where the scan's pose came from (core's resolution: console > sidecar > file).
   PoseResolution pose;
 };
