@@ -598,6 +598,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
                     std::size_t(s) % orientations);
   std::reverse(chain.begin(), chain.end());
   result.reachable = true;
+  result.cost = cost[std::size_t(reached)];
   int since_kept = 0;
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const std::size_t cell = chain[i] / orientations;

@@ -5,7 +5,14 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <string>
+#include <utility>
+#include <vector>
 
+#include "../../../core/src/traversability/reachability_search.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/pose.h"
 #include "clearway/sim/builtin_scenes.h"
@@ -125,6 +132,85 @@ TEST(Reachability, TheSmallRobotGetsAPathThroughTheDoor) {
   for (const PathPose& pose : goal.path)
     nearest = std::min(nearest, std::hypot(pose.x - door.x(), pose.y - door.y()));
   EXPECT_LT(nearest, 0.6) << "the path leaves through the door";
+}
+
+// The cheapest cost from the robot's pose to any pose in `goal`'s cell, by a plain Dijkstra over
+// every (cell, orientation) state of the reachable cells: the definition planPath's A* must meet
+// whatever its heuristic. Costs as docs/ALGORITHM.md gives them: a move's length, three times
+// that on orange, 0.05 m per turn step.
+double cheapestCost(const TraversabilityMap& map, const Eigen::Vector2d& goal) {
+  constexpr double kCarefulFactor = 3.0, kTurnStep = 0.05;
+  const MapGrid& grid = map.grid;
+  const std::size_t orientations = map.yaws.size();
+  const auto turns = detail::turnNeighbours(map.yaws);
+  std::vector<double> cost(grid.cells() * orientations, std::numeric_limits<double>::infinity());
+  using Entry = std::pair<double, std::size_t>;
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  const std::size_t first =
+      grid.index(start.x(), start.y()) * orientations + std::size_t(map.robot_orientation);
+  cost[first] = 0.0;
+  queue.push({0.0, first});
+  const Eigen::Vector2i target = grid.cellOf(goal.x(), goal.y());
+  const std::size_t goal_cell = grid.index(target.x(), target.y());
+  auto factor = [&](std::size_t state) {
+    if (!map.reach[state / orientations]) return 0.0;
+    const auto fit = PoseFit(map.pose_fit[state]);
+    return fit == PoseFit::kClear ? 1.0 : fit == PoseFit::kCareful ? kCarefulFactor : 0.0;
+  };
+  while (!queue.empty()) {
+    const auto [here, state] = queue.top();
+    queue.pop();
+    if (here > cost[state]) continue;
+    const std::size_t cell = state / orientations;
+    if (cell == goal_cell) return here;
+    const int k = int(state % orientations);
+    const int column = int(cell % std::size_t(grid.width)),
+              row = int(cell / std::size_t(grid.width));
+    auto relax = [&](std::size_t next, double step) {
+      const double f = factor(next);
+      if (f == 0.0 || here + step * f >= cost[next]) return;
+      cost[next] = here + step * f;
+      queue.push({cost[next], next});
+    };
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc)
+        if ((dr || dc) && grid.inside(column + dc, row + dr))
+          relax(grid.index(column + dc, row + dr) * orientations + std::size_t(k),
+                grid.resolution * std::hypot(double(dc), double(dr)));
+    for (const int other : turns[std::size_t(k)])
+      relax(cell * orientations + std::size_t(other), kTurnStep);
+  }
+  return std::numeric_limits<double>::infinity();
+}
+
+// The goal query's A* finds the cheapest path (its heuristic never overestimates), on scenes whose
+// routes wind through doors, to the farthest reachable cell and to a spread of others.
+TEST(Reachability, TheGoalQueryFindsTheCheapestPath) {
+  for (const std::string scene : {"garage", "doorways"}) {
+    const auto run = test::simulateAndSegment(scene, 200);
+    ASSERT_TRUE(run.result.trusted()) << scene;
+    const TraversabilityMap& map = run.result.map;
+    std::vector<Eigen::Vector2d> goals;
+    Eigen::Vector2d farthest(map.robot_pose.x, map.robot_pose.y);
+    std::size_t seen = 0;
+    for (int row = 0; row < map.grid.height; ++row)
+      for (int column = 0; column < map.grid.width; ++column) {
+        if (!map.reach[map.grid.index(column, row)]) continue;
+        const Eigen::Vector2d centre = map.grid.centre(column, row);
+        if ((centre - Eigen::Vector2d(map.robot_pose.x, map.robot_pose.y)).norm() >
+            (farthest - Eigen::Vector2d(map.robot_pose.x, map.robot_pose.y)).norm())
+          farthest = centre;
+        if (++seen % 409 == 0) goals.push_back(centre);
+      }
+    goals.push_back(farthest);
+    ASSERT_GE(goals.size(), 5U) << scene;
+    for (const Eigen::Vector2d& goal : goals) {
+      const GoalResult answer = planPath(map, goal.x(), goal.y());
+      ASSERT_TRUE(answer.reachable) << scene << " " << goal.transpose() << ": " << answer.reason;
+      EXPECT_NEAR(answer.cost, cheapestCost(map, goal), 1e-9) << scene << " " << goal.transpose();
+    }
+  }
 }
 
 TEST(Reachability, TheWideRobotIsToldWhy) {
