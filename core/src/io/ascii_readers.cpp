@@ -23,9 +23,9 @@ constexpr std::uintmax_t kMaxPoseBytes = 4096;
 constexpr std::size_t kSniffBytes = 64 * 1024;
 
 // Parses the complete lines of the file's first bytes: garbage is refused (naming its line) before
-// gigabytes of it are read.
-void checkTextHead(const std::filesystem::path& file, std::string_view head,
-                   std::uintmax_t file_size) {
+// gigabytes of it are read. Returns the rows of numbers they hold.
+std::size_t checkTextHead(const std::filesystem::path& file, std::string_view head,
+                          std::uintmax_t file_size) {
   if (head.size() < file_size) {
     const std::size_t last_newline = head.rfind('\n');
     if (last_newline == std::string_view::npos)
@@ -33,10 +33,15 @@ void checkTextHead(const std::filesystem::path& file, std::string_view head,
                                 std::to_string(head.size()) + " bytes");
     head = head.substr(0, last_newline + 1);
   }
-  parseNumberRows(file, head, 3, [](const std::array<double, 4>&, std::size_t) {}, {});
+  std::size_t rows = 0;
+  parseNumberRows(file, head, 3, [&rows](const std::array<double, 4>&, std::size_t) { ++rows; },
+                  {});
+  return rows;
 }
 
-std::string readAsciiScan(const std::filesystem::path& file) {
+}  // namespace
+
+std::size_t checkTextScanStart(const std::filesystem::path& file) {
   // Recognise the format from the first bytes before reading (and allocating for) the whole file.
   std::uintmax_t file_size = 0;
   const std::string head = readFilePrefix(file, kSniffBytes, file_size);
@@ -46,7 +51,13 @@ std::string readAsciiScan(const std::filesystem::path& file) {
     throw ScanError(file, "file of " + std::to_string(file_size) +
                               " bytes is larger than the limit of " +
                               std::to_string(kMaxAsciiBytes) + " bytes");
-  checkTextHead(file, head, file_size);
+  return checkTextHead(file, head, file_size);
+}
+
+namespace {
+
+std::string readAsciiScan(const std::filesystem::path& file) {
+  checkTextScanStart(file);
   std::string text = readWholeFile(file, kMaxAsciiBytes);
   if (text.find('\0') != std::string::npos)
     throw ScanError(file, "binary data in a text point file (wrong extension?)");

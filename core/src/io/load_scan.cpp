@@ -4,7 +4,6 @@
 #include <fstream>
 #include <numbers>
 
-#include "ascii_rows.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/io/scan_lines.h"
 #include "readers.h"
@@ -59,22 +58,11 @@ bool looksLikeScanFile(const std::filesystem::path& file) {
     return false;
   }
   if (format != ScanFormat::kXyz) return true;
-  // The first few rows are enough: up to the last whole line of the file's first bytes.
-  constexpr std::size_t kBytesLookedAt = 4096;
-  std::ifstream stream(file, std::ios::binary);
-  std::string head(kBytesLookedAt, '\0');
-  stream.read(head.data(), std::streamsize(head.size()));
-  head.resize(std::size_t(stream.gcount()));
-  if (head.size() == kBytesLookedAt)
-    head.resize(head.rfind('\n') == std::string::npos ? 0 : head.rfind('\n') + 1);
-  std::size_t rows = 0;
   try {
-    detail::parseNumberRows(file, head, 3,
-                            [&rows](const std::array<double, 4>&, std::size_t) { ++rows; }, {});
+    return detail::checkTextScanStart(file) > 0;  // a header alone is a note, not a scan
   } catch (const ScanError&) {
     return false;
   }
-  return rows > 0;
 }
 
 std::string formatName(ScanFormat format) {

@@ -21,6 +21,11 @@ Scan readUos(const std::filesystem::path& file, const LoadOptions& options);
 std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,
                            std::uintmax_t& file_size);
 
+// Checks the first bytes of a text scan (no binary data, a size within the limit, rows of at least
+// three numbers after at most one header row) before the whole file is read; returns those rows.
+// Throws ScanError naming what is wrong.
+std::size_t checkTextScanStart(const std::filesystem::path& file);
+
 // Adds a point, marking it kNoReturn when a coordinate is not finite.
 void appendPoint(Scan& scan, float x, float y, float z);
 

@@ -17,32 +17,6 @@ namespace clearway::detail {
 // have finished. Safe from several threads at once; a call made from a pool thread runs inline.
 void runTasks(std::vector<std::function<void()>>& tasks);
 
-// Calls work(begin, end, chunk) for `chunks` contiguous parts of [0, count), in parallel.
-template <typename Work>
-void parallelChunks(std::size_t count, int threads, Work&& work) {
-  const std::size_t chunks =
-      std::max<std::size_t>(1, std::min<std::size_t>(count, std::size_t(std::max(threads, 1))));
-  if (chunks == 1) {
-    work(std::size_t{0}, count, std::size_t{0});
-    return;
-  }
-  std::vector<std::exception_ptr> errors(chunks);
-  std::vector<std::function<void()>> tasks;
-  for (std::size_t c = 0; c < chunks; ++c) {
-    const std::size_t begin = count * c / chunks, end = count * (c + 1) / chunks;
-    tasks.emplace_back([&work, &errors, begin, end, c] {
-      try {
-        work(begin, end, c);
-      } catch (...) {
-        errors[c] = std::current_exception();
-      }
-    });
-  }
-  runTasks(tasks);
-  for (const std::exception_ptr& error : errors)
-    if (error) std::rethrow_exception(error);
-}
-
 // Runs different tasks in parallel (one after the other with one thread): the first on the
 // caller's thread, which then helps with the others. Rethrows the first error, in task order.
 inline void parallelTasks(std::vector<std::function<void()>> tasks, int threads) {
@@ -63,6 +37,23 @@ inline void parallelTasks(std::vector<std::function<void()>> tasks, int threads)
   }
   for (const std::exception_ptr& error : errors)
     if (error) std::rethrow_exception(error);
+}
+
+// Calls work(begin, end, chunk) for `chunks` contiguous parts of [0, count), in parallel.
+template <typename Work>
+void parallelChunks(std::size_t count, int threads, Work&& work) {
+  const std::size_t chunks =
+      std::max<std::size_t>(1, std::min<std::size_t>(count, std::size_t(std::max(threads, 1))));
+  if (chunks == 1) {
+    work(std::size_t{0}, count, std::size_t{0});
+    return;
+  }
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t c = 0; c < chunks; ++c) {
+    const std::size_t begin = count * c / chunks, end = count * (c + 1) / chunks;
+    tasks.emplace_back([&work, begin, end, c] { work(begin, end, c); });
+  }
+  parallelTasks(std::move(tasks), threads);
 }
 
 }  // namespace clearway::detail

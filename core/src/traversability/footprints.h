@@ -157,7 +157,7 @@ class FootprintTester {
   mutable std::vector<Extremes> extremes_;
   enum SlotState : std::uint8_t { kSlotEmpty, kSlotFilling, kSlotReady };
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> slot_state_;
-  // Per orientation, the footprints' offsets as steps in the padded arrays.
+  // Per orientation, the rim's offsets as steps in the padded arrays.
   std::vector<std::vector<std::ptrdiff_t>> rim_;
   // Per padded row, a running count (modulo 2^16) of the cells that block strictly / leniently,
   // one more entry than the row has cells: a stretch of a row holds a blocking cell exactly when

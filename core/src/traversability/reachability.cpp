@@ -14,7 +14,6 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <queue>
 #include <utility>
 
 #include "clearway/traversability/traversability_map.h"
@@ -446,13 +445,12 @@ std::vector<double> cheapestToGoal(const MapGrid& grid, const std::vector<std::i
       if (const double f = factor[d * orientations + k]; f > 0.0)
         cheapest_factor[d] = std::min(cheapest_factor[d], f);
   std::vector<double> remaining(cell_of.size(), kInfinity);
-  using Entry = std::pair<double, std::size_t>;
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+  // Buckets a sixteenth of a cell wide, as the A*'s.
+  QueueOfStates queue(grid.resolution / 16);
   remaining[goal] = 0.0;
   queue.push({0.0, goal});
   while (!queue.empty()) {
-    const auto [to_goal, dense] = queue.top();
-    queue.pop();
+    const auto [to_goal, dense] = queue.pop();
     if (to_goal > remaining[dense]) continue;  // a stale entry
     const std::size_t cell = cell_of[dense];
     const int row = int(cell / std::size_t(grid.width));
