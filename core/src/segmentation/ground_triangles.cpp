@@ -287,7 +287,8 @@ constexpr double kElevationHeight = 0.5;
 
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
-    const SensorGeometry& sensor, double scanner_height, int threads) {
+    const SensorGeometry& sensor, double scanner_height, int threads,
+    SweepPartners* sweep_partners) {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   auto close = [&](std::size_t a, std::size_t b, double max_edge_squared) {
     const Point3f& p = scan.points[a];
@@ -343,6 +344,9 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   const std::size_t pairs = lines == 0 ? 0 : lines - 1 + (revolution ? 1 : 0);
   const std::size_t chunks = std::size_t(std::max(threads, 1));
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
+  // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
+  const bool across_lines = sweep_partners && !multi_beam;
+  if (sweep_partners) sweep_partners->assign(scan.size(), {kNoPartner, kNoPartner});
   detail::parallelChunks(pairs, threads,
                          [&](std::size_t begin, std::size_t end, std::size_t chunk) {
                            std::vector<std::size_t> partners;
@@ -360,6 +364,15 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
                                add(parts[chunk], a0, a1, b0);
                                if (b1 != b0) add(parts[chunk], a1, b1, b0);
                              }
+                             if (!across_lines) continue;
+                             // Each pair of lines writes the after-partners of a's points and the
+                             // before-partners of b's: no element is written twice.
+                             for (std::size_t k = 0; k < a.count; ++k)
+                               (*sweep_partners)[a.first + k][1] = std::uint32_t(partnerOf(k));
+                             if (!along.empty()) partnersByAngle(along, b, a, partners);
+                             for (std::size_t k = 0; k < b.count; ++k)
+                               (*sweep_partners)[b.first + k][0] = std::uint32_t(
+                                   along.empty() ? partner(b, a, k) : partners[k]);
                            }
                          });
   for (const auto& part : parts)

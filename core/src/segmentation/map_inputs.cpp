@@ -384,6 +384,53 @@ std::vector<MapObstacle> measureObstacles(const Scan& scan, const ScanAnalysis& 
   return obstacles;
 }
 
+// Each obstacle's neighbouring beams across the sweep (SweepNeighbours). `obstacles` holds the
+// valid non-ground points inside the grid in point order (measureObstacles).
+SweepNeighbours sweepNeighbours(const Scan& scan, const MapInputs& inputs,
+                                const detail::SweepPartners& partners,
+                                const std::vector<std::int32_t>& ground_of,
+                                const std::vector<Eigen::Vector3f>& mapped,
+                                const std::vector<Eigen::Vector2i>& cell_of,
+                                const Eigen::Vector3f& scanner) {
+  SweepNeighbours neighbours;
+  if (partners.size() != scan.size()) return neighbours;
+  std::vector<std::uint32_t> obstacle_of(scan.size(), SweepNeighbours::kNone);
+  std::uint32_t next = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
+      obstacle_of[i] = next++;
+  neighbours.of_obstacle.assign(inputs.obstacles.size(),
+                                {SweepNeighbours::kNone, SweepNeighbours::kNone});
+  // Where beam `q` was at the range of point `i`.
+  auto beamAt = [&](std::size_t q, std::size_t i) -> std::optional<Eigen::Vector3f> {
+    const Eigen::Vector3f beam = mapped[q] - scanner;
+    const float length = beam.norm();
+    if (!(length > 0.0F)) return std::nullopt;
+    return scanner + beam * ((mapped[i] - scanner).norm() / length);
+  };
+
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const std::uint32_t obstacle = obstacle_of[i];
+    if (obstacle == SweepNeighbours::kNone) continue;
+    for (std::size_t side = 0; side < 2; ++side) {
+      const std::uint32_t q = partners[i][side];
+      if (q == detail::kNoPartner || !scan.isValid(q)) continue;
+      if (obstacle_of[q] != SweepNeighbours::kNone) {
+        neighbours.of_obstacle[obstacle][side] = obstacle_of[q];
+        continue;
+      }
+      // The neighbouring beam at this obstacle's range from the scanner.
+      const auto pass = beamAt(q, i);
+      if (!pass) continue;
+      neighbours.of_obstacle[obstacle][side] =
+          SweepNeighbours::kBeam | std::uint32_t(neighbours.beams.size());
+      neighbours.beams.push_back(
+          {pass->x(), pass->y(), (mapped[q] - scanner).norm() - (mapped[i] - scanner).norm()});
+    }
+  }
+  return neighbours;
+}
+
 // Where cells of two ground planes touch, and the smallest step between them.
 std::vector<GroundContact> groundContacts(const MapInputs& inputs) {
   const MapGrid& grid = inputs.grid;
@@ -434,15 +481,18 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
   const detail::EdgeLimit limit{mapped.positions, analysis.sensor, params.map.max_triangle_edge,
                                 std::max(detail::kLowestScannerHeight, scanner_z)};
-  inputs.ground_mesh =
-      meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor, scanner_z, threads),
-             cell_of, inputs.grid, threads);
+  detail::SweepPartners partners;
+  inputs.ground_mesh = meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor,
+                                                      scanner_z, threads, &partners),
+                              cell_of, inputs.grid, threads);
   markTriangleCells(inputs, ground_of, mapped.positions, cell_of, threads);
   markSingleHoles(inputs);
 
   inputs.ground_spacing = groundSpacing(inputs, analysis);
   inputs.obstacles =
       measureObstacles(scan, analysis, inputs, ground_of, mapped.positions, cell_of, threads);
+  inputs.sweep_neighbours = sweepNeighbours(scan, inputs, partners, ground_of, mapped.positions,
+                                            cell_of, map_from_scanner.translation().cast<float>());
   inputs.contacts = groundContacts(inputs);
   return inputs;
 }

@@ -170,6 +170,66 @@ std::vector<std::uint8_t> hiddenCells(const ScanAnalysis& analysis, const RobotP
   return hidden;
 }
 
+// `blocking` per obstacle: kBlocks, kOwnBody (the robot: there, but no obstacle) or 0.
+constexpr std::uint8_t kBlocks = 1, kOwnBody = 2;
+
+// A neighbouring beam that went on past an obstacle's range by more than this saw the space
+// beside it free (anything standing there from the ground up would have stopped it) [m]: a cell,
+// well above the range noise.
+constexpr double kPassedBy = 0.05;
+
+// Ground cells an obstacle may reach into between two lines (SweepNeighbours, docs/ALGORITHM.md,
+// "Where an obstacle ends between two lines"): from each blocking point towards where the
+// neighbouring line's beam was at its range, up to (not including) that place, when that beam
+// did not block and either ended there (what lies beyond its return is its shadow: the low face
+// of a pallet whose top the other line hit) or went on past a wedge wider than the density check
+// lets an obstacle hide in (`widest`).
+void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, double widest,
+                     const std::vector<std::uint8_t>& blocking,
+                     const std::vector<CellState>& state, std::vector<std::uint8_t>& sparse) {
+  const SweepNeighbours& neighbours = inputs.sweep_neighbours;
+  if (neighbours.of_obstacle.size() != inputs.obstacles.size()) return;
+  const MapGrid& grid = inputs.grid;
+  // Half a cell per step: no cell the chord crosses is skipped.
+  const double stride = 0.5 * grid.resolution;
+  for (std::size_t i = 0; i < inputs.obstacles.size(); ++i) {
+    if (blocking[i] != kBlocks) continue;
+    const MapObstacle& o = inputs.obstacles[i];
+    const Eigen::Vector3d at_obstacle(o.x, o.y, o.z);
+    const double range = (at_obstacle - scanner).norm();
+    for (const std::uint32_t neighbour : neighbours.of_obstacle[i]) {
+      if (neighbour == SweepNeighbours::kNone) continue;
+      Eigen::Vector2d pass;
+      double beyond = 0.0;
+      if (neighbour & SweepNeighbours::kBeam) {
+        const SweepNeighbours::Beam& beam = neighbours.beams[neighbour & ~SweepNeighbours::kBeam];
+        pass = {beam.x, beam.y};
+        beyond = beam.beyond;
+      } else {
+        if (blocking[neighbour]) continue;  // the obstacle goes on to the next line: it was seen
+        const MapObstacle& n = inputs.obstacles[neighbour];
+        const Eigen::Vector3d beam = Eigen::Vector3d(n.x, n.y, n.z) - scanner;
+        const double length = beam.norm();
+        if (!(length > 0.0)) continue;
+        pass = (scanner + beam * (range / length)).head<2>();
+        beyond = length - range;
+      }
+      const Eigen::Vector2d from(o.x, o.y);
+      const double chord = (pass - from).norm();
+      if (beyond > kPassedBy && chord <= widest) continue;
+      const int steps = int(std::ceil(chord / stride));
+      for (int k = 1; k < steps; ++k) {
+        const Eigen::Vector2d at = from + (pass - from) * (double(k) / steps);
+        const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
+        if (!grid.inside(c.x(), c.y())) continue;
+        const std::size_t cell = grid.index(c.x(), c.y());
+        if (state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle)
+          sparse[cell] = 1;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
@@ -289,6 +349,11 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
                          classes.state[cell] == CellState::kLowObstacle))
       classes.sparse[cell] = 1;
+  std::vector<std::uint8_t> blocking(inputs.obstacles.size(), 0);
+  for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
+    blocking[i] = own_body[i] ? kOwnBody : (blocks(i) ? kBlocks : 0);
+  markSweepWedges(inputs, analysis.map_from_scanner.translation(),
+                  kSpacingPerStep * robot.max_step, blocking, classes.state, classes.sparse);
 
   // Blocking points in CSR layout for the exact narrow-passage check.
   classes.point_start.assign(cells + 1, 0);

@@ -56,8 +56,28 @@ class HandBuiltMap {
     const double ground = analysis_.inputs.ground_height[index];
     analysis_.inputs.obstacles.push_back(
         {std::uint32_t(index), float(x), float(y), float(ground + height), float(height)});
+    analysis_.inputs.sweep_neighbours.of_obstacle.push_back(
+        {SweepNeighbours::kNone, SweepNeighbours::kNone});
     return *this;
   }
+
+  // The last point's neighbouring scan line across the sweep: its beam was at map (x, y) at the
+  // point's range and went on `beyond` metres farther (SweepNeighbours). Nothing between was seen.
+  HandBuiltMap& sweptPast(double x, double y, double beyond) {
+    SweepNeighbours& neighbours = analysis_.inputs.sweep_neighbours;
+    neighbours.of_obstacle.back()[1] =
+        SweepNeighbours::kBeam | std::uint32_t(neighbours.beams.size());
+    neighbours.beams.push_back({float(x), float(y), float(beyond)});
+    return *this;
+  }
+
+  // The last point's neighbouring scan line hit the earlier point number `obstacle`.
+  HandBuiltMap& sweptOnto(std::size_t obstacle) {
+    analysis_.inputs.sweep_neighbours.of_obstacle.back()[1] = std::uint32_t(obstacle);
+    return *this;
+  }
+
+  std::size_t points() const { return analysis_.inputs.obstacles.size(); }
 
   // Points densely sampled (every kSampleSpacing) on the vertical face over the segment from
   // `from` to `to`, from `low` to `high` above the ground: a wall, a riser, a lintel's face.

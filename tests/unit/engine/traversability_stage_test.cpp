@@ -103,6 +103,52 @@ TEST(TraversabilityStage, AWideCorridorIsGreen) {
     EXPECT_EQ(cellAt(map, x, 0.025).label, CellLabel::kTraversable) << "at x = " << x;
 }
 
+// The wide corridor's +y wall holds a post at x = 3 seen by one scan line. The next line's beam,
+// at the post's range, was 0.3 m into the corridor (wider than twice the step, the widest the
+// density check lets an obstacle hide in) or 0.18 m, and went on; or it ended there, on the floor
+// (the post's shadow may hide the rest of it); or it hit the wall too. The post may reach into the
+// unseen wedge between (docs/ALGORITHM.md, "Where an obstacle ends between two lines"), over the
+// robot's box on the centre line, unless the wall goes on or the beam saw a narrow wedge's end.
+constexpr double kPostX = 3.0;
+enum class NextLine { kNone, kPassedFar, kPassedNear, kEndedOnTheFloor, kHitTheWall };
+HandBuiltMap corridorWithPost(NextLine next_line) {
+  const double wall_y = (testRobot().width + 0.3) / 2;
+  HandBuiltMap built = corridor(testRobot().width + 0.3);
+  built.point(kPostX + 0.3, wall_y, 0.5);
+  const std::size_t on_the_wall = built.points() - 1;
+  built.point(kPostX, wall_y, 0.5);
+  if (next_line == NextLine::kPassedFar)
+    built.sweptPast(kPostX, wall_y - 0.3, 2.0);
+  else if (next_line == NextLine::kPassedNear)
+    built.sweptPast(kPostX, wall_y - 0.18, 2.0);
+  else if (next_line == NextLine::kEndedOnTheFloor)
+    built.sweptPast(kPostX, wall_y - 0.18, 0.0);
+  else if (next_line == NextLine::kHitTheWall)
+    built.sweptOnto(on_the_wall);
+  return built;
+}
+
+TEST(TraversabilityStage, AnObstacleMayReachIntoTheWedgeToTheNextLinesBeam) {
+  // The centre line beside the post: green when nothing says the post reaches out, when the next
+  // line hit the wall (the wall goes on), or when its beam went on past a narrow wedge; only
+  // probably passable, too sparse, when the wedge is wide or the beam ended in it. Still
+  // reachable: only the wedge is unseen.
+  for (const NextLine seen : {NextLine::kNone, NextLine::kHitTheWall, NextLine::kPassedNear}) {
+    const Cell cell = cellAt(mapOf(corridorWithPost(seen)), kPostX, 0.025);
+    EXPECT_EQ(cell.label, CellLabel::kTraversable) << int(seen) << ": " << describe(cell);
+  }
+  for (const NextLine unseen : {NextLine::kPassedFar, NextLine::kEndedOnTheFloor}) {
+    const TraversabilityMap map = mapOf(corridorWithPost(unseen));
+    const Cell beside = cellAt(map, kPostX, 0.025);
+    EXPECT_EQ(beside.label, CellLabel::kObstacle) << int(unseen) << ": " << describe(beside);
+    EXPECT_EQ(beside.reason, CellReason::kSparse) << int(unseen) << ": " << describe(beside);
+    EXPECT_TRUE(beside.reachable) << int(unseen);
+    // Past the wedge the corridor is green again.
+    const Cell beyond = cellAt(map, kPostX + 1.0, 0.025);
+    EXPECT_EQ(beyond.label, CellLabel::kTraversable) << int(unseen) << ": " << describe(beyond);
+  }
+}
+
 // A corridor 2 cm wider than the robot running at 37 deg, between none of the uniform orientations
 // (every 15 deg): the robot fits only along it, which the stage tries when a wall says so.
 constexpr double kSlantDeg = 37.0;

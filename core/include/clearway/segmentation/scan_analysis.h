@@ -52,6 +52,23 @@ struct MapObstacle {
   float height = 0.0F;                 // above the local ground [m]
 };
 
+// Across a rotating scanner's sweep, nothing between two neighbouring lines was seen: an obstacle
+// one line hit may reach into that wedge towards the next line's beam (docs/ALGORITHM.md, "Where
+// an obstacle ends between two lines"). Per obstacle and side (the line before, the line after):
+// the neighbouring beam's point when it is an obstacle too (whether it blocks depends on the
+// robot), else where that beam was at the obstacle's range and how much farther it went on.
+struct SweepNeighbours {
+  static constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+  // Set on an entry that indexes `beams` (the neighbour is ground, or off the grid).
+  static constexpr std::uint32_t kBeam = 0x80000000U;
+  struct Beam {
+    float x = 0.0F, y = 0.0F;  // map position at the obstacle's range [m]
+    float beyond = 0.0F;       // its return's range less the obstacle's [m]
+  };
+  std::vector<std::array<std::uint32_t, 2>> of_obstacle;  // index into obstacles, kBeam | i, kNone
+  std::vector<Beam> beams;
+};
+
 // Where two ground planes meet on the map, and the smallest step between them there.
 struct GroundContact {
   int a = -1, b = -1;
@@ -77,6 +94,7 @@ struct MapInputs {
   // robot's step (docs/ALGORITHM.md, "Sparse scans never lie").
   std::vector<float> ground_spacing;
   std::vector<MapObstacle> obstacles;
+  SweepNeighbours sweep_neighbours;  // empty for multi-beam frames
   std::vector<GroundContact> contacts;
   GroundMesh ground_mesh;
 };
