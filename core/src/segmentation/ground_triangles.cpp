@@ -371,8 +371,8 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
                                (*sweep_partners)[a.first + k][1] = std::uint32_t(partnerOf(k));
                              if (!along.empty()) partnersByAngle(along, b, a, partners);
                              for (std::size_t k = 0; k < b.count; ++k)
-                               (*sweep_partners)[b.first + k][0] = std::uint32_t(
-                                   along.empty() ? partner(b, a, k) : partners[k]);
+                               (*sweep_partners)[b.first + k][0] =
+                                   std::uint32_t(along.empty() ? partner(b, a, k) : partners[k]);
                            }
                          });
   for (const auto& part : parts)

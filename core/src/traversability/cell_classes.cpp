@@ -185,8 +185,8 @@ constexpr double kPassedBy = 0.05;
 // of a pallet whose top the other line hit) or went on past a wedge wider than the density check
 // lets an obstacle hide in (`widest`).
 void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, double widest,
-                     const std::vector<std::uint8_t>& blocking,
-                     const std::vector<CellState>& state, std::vector<std::uint8_t>& sparse) {
+                     const std::vector<std::uint8_t>& blocking, const std::vector<CellState>& state,
+                     std::vector<std::uint8_t>& sparse) {
   const SweepNeighbours& neighbours = inputs.sweep_neighbours;
   if (neighbours.of_obstacle.size() != inputs.obstacles.size()) return;
   const MapGrid& grid = inputs.grid;
@@ -352,8 +352,8 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   std::vector<std::uint8_t> blocking(inputs.obstacles.size(), 0);
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
     blocking[i] = own_body[i] ? kOwnBody : (blocks(i) ? kBlocks : 0);
-  markSweepWedges(inputs, analysis.map_from_scanner.translation(),
-                  kSpacingPerStep * robot.max_step, blocking, classes.state, classes.sparse);
+  markSweepWedges(inputs, analysis.map_from_scanner.translation(), kSpacingPerStep * robot.max_step,
+                  blocking, classes.state, classes.sparse);
 
   // Blocking points in CSR layout for the exact narrow-passage check.
   classes.point_start.assign(cells + 1, 0);
