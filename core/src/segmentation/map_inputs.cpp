@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <opencv2/imgproc.hpp>
 #include <optional>
 
 #include "clearway/segmentation/scan_analysis.h"
@@ -26,19 +27,23 @@ constexpr double kMapMargin = 0.25;  // [m]
 
 // The local ground beside a cell that has none (a wall's foot, a trunk): the lowest ground cell
 // within kLocalGroundReach, if any (lowest: an obstacle is never measured as lower than it is).
-std::optional<double> groundAround(const MapInputs& inputs, const Eigen::Vector2i& cell) {
+// For every cell at once (a minimum filter over the ground heights, no ground counting as
+// +infinity): a wall's cells hold many points each, and asking per point read 49 cells per point.
+std::vector<float> lowestGroundAround(const MapInputs& inputs) {
   constexpr int kLocalGroundReach = 3;  // cells (0.15 m at the default resolution)
-  double lowest = std::numeric_limits<double>::max();
-  bool any = false;
-  for (int dr = -kLocalGroundReach; dr <= kLocalGroundReach; ++dr)
-    for (int dc = -kLocalGroundReach; dc <= kLocalGroundReach; ++dc) {
-      if (!inputs.grid.inside(cell.x() + dc, cell.y() + dr)) continue;
-      const std::size_t next = inputs.grid.index(cell.x() + dc, cell.y() + dr);
-      if (inputs.ground_plane[next] < 0) continue;
-      lowest = std::min(lowest, double(inputs.ground_height[next]));
-      any = true;
-    }
-  if (!any) return std::nullopt;
+  constexpr float kNoGround = std::numeric_limits<float>::infinity();
+  const MapGrid& grid = inputs.grid;
+  std::vector<float> heights(grid.cells(), kNoGround);
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+    if (inputs.ground_plane[cell] >= 0) heights[cell] = inputs.ground_height[cell];
+  std::vector<float> lowest(grid.cells(), kNoGround);
+  if (grid.cells() == 0) return lowest;
+  // Rows of the grid are rows of the image (cells are stored row by row).
+  const cv::Mat source(grid.height, grid.width, CV_32FC1, heights.data());
+  cv::Mat result(grid.height, grid.width, CV_32FC1, lowest.data());
+  const int side = 2 * kLocalGroundReach + 1;
+  cv::erode(source, result, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(side, side)),
+            cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(kNoGround));
   return lowest;
 }
 
@@ -358,6 +363,7 @@ std::vector<MapObstacle> measureObstacles(const Scan& scan, const ScanAnalysis& 
                                           int threads) {
   const MapGrid& grid = inputs.grid;
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
+  const std::vector<float> ground_around = lowestGroundAround(inputs);
   std::vector<std::vector<MapObstacle>> found(std::size_t(std::max(threads, 1)));
   detail::parallelChunks(
       scan.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
@@ -370,8 +376,8 @@ std::vector<MapObstacle> measureObstacles(const Scan& scan, const ScanAnalysis& 
           double ground = 0.0;
           if (inputs.ground_plane[index] >= 0)
             ground = inputs.ground_height[index];
-          else if (const auto local = groundAround(inputs, cell))
-            ground = *local;
+          else if (std::isfinite(ground_around[index]))
+            ground = ground_around[index];
           else
             ground = groundBeneathHidden(analysis, scanner_from_map, m);
           found[chunk].push_back({std::uint32_t(index), float(m.x()), float(m.y()), float(m.z()),
