@@ -290,12 +290,13 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const SensorGeometry& sensor, double scanner_height, int threads,
     SweepPartners* sweep_partners) {
   std::vector<std::array<std::uint32_t, 3>> triangles;
-  auto close = [&](std::size_t a, std::size_t b, double max_edge_squared) {
+  auto squaredDistance = [&](std::size_t a, std::size_t b) {
     const Point3f& p = scan.points[a];
     const Point3f& q = scan.points[b];
     const double dx = p.x - q.x, dy = p.y - q.y, dz = p.z - q.z;
-    return dx * dx + dy * dy + dz * dz <= max_edge_squared;
+    return dx * dx + dy * dy + dz * dz;
   };
+  const double fixed_edge_squared = limit.fixed * limit.fixed;
   auto add = [&](std::vector<std::array<std::uint32_t, 3>>& out, std::size_t a, std::size_t b,
                  std::size_t c) {
     const std::int32_t g = ground_of[a];
@@ -306,10 +307,10 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
       const float za = limit.mapped[a].z(), zb = limit.mapped[b].z(), zc = limit.mapped[c].z();
       if (std::max({za, zb, zc}) - std::min({za, zb, zc}) > kLargestSeamStep) return;
     }
-    const double max_edge_squared = limit.maxEdgeSquared(a);
-    if (!close(a, b, max_edge_squared) || !close(b, c, max_edge_squared) ||
-        !close(a, c, max_edge_squared))
-      return;
+    // The limit is never below the fixed one: only a longer edge needs the range's.
+    const double longest =
+        std::max({squaredDistance(a, b), squaredDistance(b, c), squaredDistance(a, c)});
+    if (longest > fixed_edge_squared && longest > limit.maxEdgeSquared(a)) return;
     out.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
   };
   // Ragged lines (sky and no-returns dropped, rings of different lengths) are paired by the angle
