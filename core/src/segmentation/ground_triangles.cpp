@@ -38,17 +38,27 @@ std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double li
     bool started = false;
     for (std::size_t i = line.first; i < line.first + line.count; ++i) {
       const Point3f& p = scan.points[i];
-      const double horizontal = std::hypot(double(p.x), double(p.y));
-      if (!scan.isValid(i) || horizontal + std::abs(p.z) <= 1e-6) {
+      // A point at the origin has no direction. hypot(x, y) + |z| is at least the coordinates'
+      // sum over sqrt(2): only a sum below 2e-6 needs the exact test (hypot is slow; this runs
+      // for every point).
+      const double sum = std::abs(double(p.x)) + std::abs(double(p.y)) + std::abs(double(p.z));
+      if (!scan.isValid(i) ||
+          (sum <= 2e-6 && std::hypot(double(p.x), double(p.y)) + std::abs(p.z) <= 1e-6)) {
         along[i] = previous;
         continue;
       }
       if (!multi_beam) {
-        previous = std::atan2(double(p.z) - lift, horizontal);
+        previous = std::atan2(double(p.z) - lift, std::hypot(double(p.x), double(p.y)));
       } else {
         const double raw = std::atan2(double(p.y), double(p.x));
-        previous =
-            started ? previous + std::remainder(raw - raw_previous, 2.0 * std::numbers::pi) : raw;
+        // The turn from the last azimuth, within half a turn: what std::remainder(step, 2 pi)
+        // gives, exactly (Sterbenz: step -/+ 2 pi is exact for |step| within (pi, 2 pi]).
+        double step = raw - raw_previous;
+        if (step > std::numbers::pi)
+          step -= 2.0 * std::numbers::pi;
+        else if (step < -std::numbers::pi)
+          step += 2.0 * std::numbers::pi;
+        previous = started ? previous + step : raw;
         raw_previous = raw;
       }
       started = true;
