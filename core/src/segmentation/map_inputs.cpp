@@ -278,9 +278,24 @@ constexpr int kHoleNeighbours = 5;
 
 void markSingleHoles(MapInputs& inputs) {
   const MapGrid& grid = inputs.grid;
+  // Ground cells per 3 x 3 block, of any plane, first (sums of rows of three, then of columns):
+  // most unobserved cells have none around them, and need no count per plane.
+  const std::size_t width = std::size_t(grid.width);
+  std::vector<std::uint8_t> across(grid.cells(), 0);
+  for (int row = 0; row < grid.height; ++row) {
+    const std::int16_t* plane = inputs.ground_plane.data() + std::size_t(row) * width;
+    std::uint8_t* sum = across.data() + std::size_t(row) * width;
+    for (std::size_t column = 1; column + 1 < width; ++column)
+      sum[column] = std::uint8_t((plane[column - 1] >= 0) + (plane[column] >= 0) +
+                                 (plane[column + 1] >= 0));
+  }
   std::vector<std::pair<std::size_t, int>> holes;
   for (int row = 1; row + 1 < grid.height; ++row) {
+    const std::uint8_t* above = across.data() + std::size_t(row - 1) * width;
+    const std::uint8_t* here = above + width;
+    const std::uint8_t* below = here + width;
     for (int column = 1; column + 1 < grid.width; ++column) {
+      if (above[column] + here[column] + below[column] < kHoleNeighbours) continue;
       if (inputs.ground_plane[grid.index(column, row)] >= 0) continue;
       // Count the neighbours' planes in a small array.
       int planes[8], counts[8], distinct = 0;
