@@ -231,6 +231,7 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
               cell_of[triangle[0]].cwiseMin(cell_of[triangle[1]]).cwiseMin(cell_of[triangle[2]]);
           const Eigen::Vector2i high =
               cell_of[triangle[0]].cwiseMax(cell_of[triangle[1]]).cwiseMax(cell_of[triangle[2]]);
+          if (high.y() < int(row_begin) || low.y() >= int(row_end)) continue;  // another band's
           // Scanline fill: per row, the triangle's x-interval at the row's centre line.
           const Eigen::Vector2d corners[3] = {a, b, c};
           // The triangle's height over the map: z = h0 + hx x + hy y through its corners, from
