@@ -287,8 +287,8 @@ void markSingleHoles(MapInputs& inputs) {
     const std::int16_t* plane = inputs.ground_plane.data() + std::size_t(row) * width;
     std::uint8_t* sum = across.data() + std::size_t(row) * width;
     for (std::size_t column = 1; column + 1 < width; ++column)
-      sum[column] = std::uint8_t((plane[column - 1] >= 0) + (plane[column] >= 0) +
-                                 (plane[column + 1] >= 0));
+      sum[column] =
+          std::uint8_t((plane[column - 1] >= 0) + (plane[column] >= 0) + (plane[column + 1] >= 0));
   }
   std::vector<std::pair<std::size_t, int>> holes;
   for (int row = 1; row + 1 < grid.height; ++row) {

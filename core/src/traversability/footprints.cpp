@@ -149,6 +149,24 @@ Footprints makeFootprints(const RobotParams& robot, double resolution,
   return f;
 }
 
+std::vector<std::uint8_t> cellsNearSparse(const std::vector<std::uint8_t>& sparse,
+                                          const MapGrid& grid, const Footprints& footprints) {
+  // The rim reaches kRimReachCells past the box, the enlarged box kGreenMarginCells (in
+  // outer_radius); a sparse cell changes the closing of blocked cells within its half size, and
+  // the tolerated-unknown rule looks one cell further. One more cell of margin for rounding.
+  const int reach = int(std::ceil(footprints.outer_radius + kRimReachCells)) +
+                    int(std::ceil(kWallGapBridge / grid.resolution)) + 2;
+  std::vector<std::uint8_t> near(grid.cells(), 0);
+  if (grid.cells() == 0) return near;
+  std::vector<std::uint8_t> source(sparse.begin(), sparse.end());
+  const cv::Mat image(grid.height, grid.width, CV_8UC1, source.data());
+  cv::Mat grown(grid.height, grid.width, CV_8UC1, near.data());
+  cv::dilate(image, grown,
+             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1)),
+             cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+  return near;
+}
+
 std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid) {
   auto maskOf = [&](auto predicate) {
     cv::Mat mask(grid.height, grid.width, CV_8UC1);

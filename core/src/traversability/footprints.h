@@ -76,6 +76,12 @@ Footprints makeFootprints(const RobotParams& robot, double resolution,
 // between its sparse points.
 std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid);
 
+// Cells whose box tests read nothing that sparse cells change (0), else 1: beyond the box's reach
+// with the exact test's rim, plus the reach of the tolerated-unknown rule's closing, from every
+// sparse cell. There the placement with sparse cells blocked tests exactly as the one without.
+std::vector<std::uint8_t> cellsNearSparse(const std::vector<std::uint8_t>& sparse,
+                                          const MapGrid& grid, const Footprints& footprints);
+
 // The two tests of one pose, callable from several threads at once.
 class FootprintTester {
  public:

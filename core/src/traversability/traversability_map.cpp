@@ -39,10 +39,27 @@ constexpr std::size_t kPartsPerThread = 4;
 // stored there (PoseFit per cell * orientations + k), for the reachability search: it visits
 // nearly all of them, and then only looks its fits up. Without, a cell's test stops at the first
 // fit.
+// With `tested_alike` (the placement with sparse cells blocked), the cells it marks 0 test
+// exactly as in the placement whose fits `loose_fits` holds (cellsNearSparse): their fits are
+// read from there, not tested again.
 void placeRows(const CellClasses& classes, const Footprints& footprints,
                const FootprintTester& tester, std::size_t part, std::size_t parts,
-               TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits) {
+               TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits,
+               const std::vector<std::uint8_t>* tested_alike = nullptr,
+               const std::vector<std::uint8_t>* loose_fits = nullptr) {
   const std::size_t orientations = map.yaws.size();
+  // The label's orientation from a cell's fits: the first that fits green from the last cell's,
+  // else the first that fits at all.
+  auto pick = [orientations](const std::uint8_t* fits, int last_fit, int& fit, bool& careful) {
+    for (const PoseFit wanted : {PoseFit::kClear, PoseFit::kCareful})
+      for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
+        const std::size_t k = (std::size_t(last_fit) + n) % orientations;
+        if (fits[k] == std::uint8_t(wanted)) {
+          fit = int(k);
+          careful = wanted == PoseFit::kCareful;
+        }
+      }
+  };
   // Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged
   // box in every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
   const double coarse_radius = footprints.inner_radius + kGreenMarginCells;
@@ -76,16 +93,12 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
             fits[k] = std::uint8_t(PoseFit::kClear);
           else if (exact && tester.fitsExactlyInCell(column, row, int(k)))
             fits[k] = std::uint8_t(PoseFit::kCareful);
-        // The label's orientation as the loop below picks it: the first that fits green
-        // from the last cell's, else the first that fits at all.
-        for (const PoseFit wanted : {PoseFit::kClear, PoseFit::kCareful})
-          for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
-            const std::size_t k = (std::size_t(last_fit) + n) % orientations;
-            if (fits[k] == std::uint8_t(wanted)) {
-              fit = int(k);
-              careful = wanted == PoseFit::kCareful;
-            }
-          }
+        // The label's orientation as the loop below picks it.
+        pick(fits, last_fit, fit, careful);
+      } else if (tested_alike && !(*tested_alike)[cell]) {
+        // The loops below would find the same first fits as the loose placement's tests (and
+        // none without either test, as the loose placement found none).
+        if (coarse || exact) pick(loose_fits->data() + cell * orientations, last_fit, fit, careful);
       } else {
         if (coarse)
           for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
@@ -118,16 +131,17 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
 }
 
 // Tasks placing all rows of a placement, kPartsPerThread per thread.
-std::vector<std::function<void()>> placementTasks(const CellClasses& classes,
-                                                  const Footprints& footprints,
-                                                  const FootprintTester& tester, int threads,
-                                                  TraversabilityMap& map,
-                                                  std::vector<std::uint8_t>& pose_fits) {
+std::vector<std::function<void()>> placementTasks(
+    const CellClasses& classes, const Footprints& footprints, const FootprintTester& tester,
+    int threads, TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits,
+    const std::vector<std::uint8_t>* tested_alike = nullptr,
+    const std::vector<std::uint8_t>* loose_fits = nullptr) {
   const std::size_t parts = kPartsPerThread * std::size_t(std::max(threads, 1));
   std::vector<std::function<void()>> tasks;
   for (std::size_t part = 0; part < parts; ++part)
-    tasks.emplace_back([&classes, &footprints, &tester, &map, &pose_fits, part, parts] {
-      placeRows(classes, footprints, tester, part, parts, map, pose_fits);
+    tasks.emplace_back([&classes, &footprints, &tester, &map, &pose_fits, tested_alike, loose_fits,
+                        part, parts] {
+      placeRows(classes, footprints, tester, part, parts, map, pose_fits, tested_alike, loose_fits);
     });
   return tasks;
 }
@@ -249,9 +263,13 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   // vouched-for ground: the search is one thread's work, the rows are shared by all.
   std::vector<std::function<void()>> tasks = {[&] { detail::searchReachable(map, pose_fits); }};
   std::vector<std::uint8_t> no_pose_fits;  // the first fit of each cell is enough here
+  // Away from sparse cells the strict placement's tests are the loose one's: it reads them.
+  const std::vector<std::uint8_t> near_sparse =
+      has_sparse ? detail::cellsNearSparse(classes.sparse, map.grid, footprints)
+                 : std::vector<std::uint8_t>{};
   if (has_sparse)
-    for (auto& task :
-         placementTasks(strict_classes, footprints, *strict_tester, threads, map, no_pose_fits))
+    for (auto& task : placementTasks(strict_classes, footprints, *strict_tester, threads, map,
+                                     no_pose_fits, &near_sparse, &pose_fits))
       tasks.push_back(std::move(task));
   detail::parallelTasks(std::move(tasks), threads);
   if (has_sparse) {
