@@ -357,7 +357,15 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
   const bool across_lines = sweep_partners && !multi_beam;
-  if (sweep_partners) sweep_partners->assign(scan.size(), {kNoPartner, kNoPartner});
+  if (across_lines)
+    sweep_partners->partners.assign(sweep_partners->points.size(), {kNoPartner, kNoPartner});
+  // Each chosen point of a line with its entry, walking `points` beside the line.
+  auto forChosen = [&](const ScanLine& line, auto&& visit) {
+    const std::vector<std::uint32_t>& chosen = sweep_partners->points;
+    auto it = std::lower_bound(chosen.begin(), chosen.end(), line.first);
+    for (; it != chosen.end() && *it < line.first + line.count; ++it)
+      visit(std::size_t(*it - line.first), std::size_t(it - chosen.begin()));
+  };
   detail::parallelChunks(pairs, threads,
                          [&](std::size_t begin, std::size_t end, std::size_t chunk) {
                            std::vector<std::size_t> partners;
@@ -378,12 +386,14 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
                              if (!across_lines) continue;
                              // Each pair of lines writes the after-partners of a's points and the
                              // before-partners of b's: no element is written twice.
-                             for (std::size_t k = 0; k < a.count; ++k)
-                               (*sweep_partners)[a.first + k][1] = std::uint32_t(partnerOf(k));
+                             forChosen(a, [&](std::size_t k, std::size_t entry) {
+                               sweep_partners->partners[entry][1] = std::uint32_t(partnerOf(k));
+                             });
                              if (!along.empty()) partnersByAngle(along, b, a, partners);
-                             for (std::size_t k = 0; k < b.count; ++k)
-                               (*sweep_partners)[b.first + k][0] =
+                             forChosen(b, [&](std::size_t k, std::size_t entry) {
+                               sweep_partners->partners[entry][0] =
                                    std::uint32_t(along.empty() ? partner(b, a, k) : partners[k]);
+                             });
                            }
                          });
   for (const auto& part : parts)

@@ -40,15 +40,24 @@ struct EdgeLimit {
 // grazing angle; its spacing is worked out for at least this height [m].
 inline constexpr double kLowestScannerHeight = 0.3;
 
-// Per scan point, its partners on the lines either side of its own across the sweep (before,
-// after): the points the ground triangles pair it with. kNoPartner where there is no such line
-// (the ends of a partial turn, a fan left out) and for every point of a multi-beam frame.
+// The partners across the sweep (on the lines either side, before and after: the points the
+// ground triangles pair them with) of chosen points, `points` (ascending scan indices). kNoPartner
+// where there is no such line (the ends of a partial turn, a fan left out); `partners` stays empty
+// for a multi-beam frame.
 inline constexpr std::uint32_t kNoPartner = 0xFFFFFFFFU;
-using SweepPartners = std::vector<std::array<std::uint32_t, 2>>;
+struct SweepPartners {
+  std::vector<std::uint32_t> points;
+  std::vector<std::array<std::uint32_t, 2>> partners;  // per entry of `points`
+  // The entry of scan point `point` in `points`, or kNoPartner.
+  std::uint32_t entryOf(std::size_t point) const {
+    const auto it = std::lower_bound(points.begin(), points.end(), point);
+    return it != points.end() && *it == point ? std::uint32_t(it - points.begin()) : kNoPartner;
+  }
+};
 
 // The triangles (scan point indices) over the ground points (`ground_of`: plane per point, -1 not
-// ground), the scanner `scanner_height` above the map's ground. With `partners`, also each point's
-// partners across the sweep (a rotating scanner's neighbouring lines).
+// ground), the scanner `scanner_height` above the map's ground. With `partners`, also the partners
+// across the sweep of its `points` (a rotating scanner's neighbouring lines).
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
     const SensorGeometry& sensor, double scanner_height, int threads,

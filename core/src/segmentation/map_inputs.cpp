@@ -370,84 +370,66 @@ double groundBeneathHidden(const ScanAnalysis& analysis, const Eigen::Isometry3d
   return ground;
 }
 
-// Every point that is not ground, with its height above the ground beneath it.
-std::vector<MapObstacle> measureObstacles(const Scan& scan, const ScanAnalysis& analysis,
-                                          const MapInputs& inputs,
-                                          const std::vector<std::int32_t>& ground_of,
+// Every point that is not ground (`points`: the valid non-ground points inside the grid, in point
+// order), with its height above the ground beneath it, written in place (no second copy of a
+// scan's worth of obstacles).
+std::vector<MapObstacle> measureObstacles(const ScanAnalysis& analysis, const MapInputs& inputs,
+                                          const std::vector<std::uint32_t>& points,
                                           const std::vector<Eigen::Vector3f>& mapped,
                                           const std::vector<Eigen::Vector2i>& cell_of,
                                           int threads) {
   const MapGrid& grid = inputs.grid;
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   const std::vector<float> ground_around = lowestGroundAround(inputs);
-  std::vector<std::vector<MapObstacle>> found(std::size_t(std::max(threads, 1)));
-  detail::parallelChunks(
-      scan.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
-        for (std::size_t i = begin; i < end; ++i) {
-          if (!scan.isValid(i) || ground_of[i] >= 0) continue;
-          const Eigen::Vector3d m = mapped[i].cast<double>();
-          const Eigen::Vector2i& cell = cell_of[i];
-          if (!grid.inside(cell.x(), cell.y())) continue;
-          const std::size_t index = grid.index(cell.x(), cell.y());
-          double ground = 0.0;
-          if (inputs.ground_plane[index] >= 0)
-            ground = inputs.ground_height[index];
-          else if (std::isfinite(ground_around[index]))
-            ground = ground_around[index];
-          else
-            ground = groundBeneathHidden(analysis, scanner_from_map, m);
-          found[chunk].push_back({std::uint32_t(index), float(m.x()), float(m.y()), float(m.z()),
-                                  float(m.z() - ground)});
-        }
-      });
-  std::vector<MapObstacle> obstacles;
-  for (const auto& part : found)
-    obstacles.insert(obstacles.end(), part.begin(), part.end());
+  std::vector<MapObstacle> obstacles(points.size());
+  detail::parallelChunks(points.size(), threads,
+                         [&](std::size_t begin, std::size_t end, std::size_t) {
+                           for (std::size_t e = begin; e < end; ++e) {
+                             const std::size_t i = points[e];
+                             const Eigen::Vector3d m = mapped[i].cast<double>();
+                             const Eigen::Vector2i& cell = cell_of[i];
+                             const std::size_t index = grid.index(cell.x(), cell.y());
+                             double ground = 0.0;
+                             if (inputs.ground_plane[index] >= 0)
+                               ground = inputs.ground_height[index];
+                             else if (std::isfinite(ground_around[index]))
+                               ground = ground_around[index];
+                             else
+                               ground = groundBeneathHidden(analysis, scanner_from_map, m);
+                             obstacles[e] = {std::uint32_t(index), float(m.x()), float(m.y()),
+                                             float(m.z()), float(m.z() - ground)};
+                           }
+                         });
   return obstacles;
 }
 
-// Each obstacle's neighbouring beams across the sweep (SweepNeighbours). `obstacles` holds the
-// valid non-ground points inside the grid in point order (measureObstacles).
-SweepNeighbours sweepNeighbours(const Scan& scan, const MapInputs& inputs,
-                                const detail::SweepPartners& partners,
-                                const std::vector<std::int32_t>& ground_of,
+// Each obstacle's neighbouring beams across the sweep (SweepNeighbours). `partners.points` are the
+// obstacles' points, as measureObstacles keeps them: an entry's index is its obstacle's.
+SweepNeighbours sweepNeighbours(const Scan& scan, const detail::SweepPartners& partners,
                                 const std::vector<Eigen::Vector3f>& mapped,
-                                const std::vector<Eigen::Vector2i>& cell_of,
                                 const Eigen::Vector3f& scanner) {
   SweepNeighbours neighbours;
-  if (partners.size() != scan.size()) return neighbours;
-  std::vector<std::uint32_t> obstacle_of(scan.size(), SweepNeighbours::kNone);
-  std::uint32_t next = 0;
-  for (std::size_t i = 0; i < scan.size(); ++i)
-    if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
-      obstacle_of[i] = next++;
-  neighbours.of_obstacle.assign(inputs.obstacles.size(),
-                                {SweepNeighbours::kNone, SweepNeighbours::kNone});
-  // Where beam `q` was at the range of point `i`.
-  auto beamAt = [&](std::size_t q, std::size_t i) -> std::optional<Eigen::Vector3f> {
-    const Eigen::Vector3f beam = mapped[q] - scanner;
-    const float length = beam.norm();
-    if (!(length > 0.0F)) return std::nullopt;
-    return scanner + beam * ((mapped[i] - scanner).norm() / length);
-  };
-
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const std::uint32_t obstacle = obstacle_of[i];
-    if (obstacle == SweepNeighbours::kNone) continue;
+  const std::size_t obstacles = partners.points.size();
+  if (partners.partners.size() != obstacles) return neighbours;
+  neighbours.of_obstacle.assign(obstacles, {SweepNeighbours::kNone, SweepNeighbours::kNone});
+  for (std::size_t obstacle = 0; obstacle < obstacles; ++obstacle) {
+    const std::size_t i = partners.points[obstacle];
+    const float range = (mapped[i] - scanner).norm();
     for (std::size_t side = 0; side < 2; ++side) {
-      const std::uint32_t q = partners[i][side];
+      const std::uint32_t q = partners.partners[obstacle][side];
       if (q == detail::kNoPartner || !scan.isValid(q)) continue;
-      if (obstacle_of[q] != SweepNeighbours::kNone) {
-        neighbours.of_obstacle[obstacle][side] = obstacle_of[q];
+      if (const std::uint32_t other = partners.entryOf(q); other != detail::kNoPartner) {
+        neighbours.of_obstacle[obstacle][side] = other;
         continue;
       }
       // The neighbouring beam at this obstacle's range from the scanner.
-      const auto pass = beamAt(q, i);
-      if (!pass) continue;
+      const Eigen::Vector3f beam = mapped[q] - scanner;
+      const float length = beam.norm();
+      if (!(length > 0.0F)) continue;
+      const Eigen::Vector3f pass = scanner + beam * (range / length);
       neighbours.of_obstacle[obstacle][side] =
           SweepNeighbours::kBeam | std::uint32_t(neighbours.beams.size());
-      neighbours.beams.push_back(
-          {pass->x(), pass->y(), (mapped[q] - scanner).norm() - (mapped[i] - scanner).norm()});
+      neighbours.beams.push_back({pass.x(), pass.y(), length - range});
     }
   }
   return neighbours;
@@ -503,7 +485,11 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
   const detail::EdgeLimit limit{mapped.positions, analysis.sensor, params.map.max_triangle_edge,
                                 std::max(detail::kLowestScannerHeight, scanner_z)};
+  // The points measureObstacles will keep, whose partners across the sweep are wanted.
   detail::SweepPartners partners;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
+      partners.points.push_back(std::uint32_t(i));
   inputs.ground_mesh = meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor,
                                                       scanner_z, threads, &partners),
                               cell_of, inputs.grid, threads);
@@ -511,10 +497,11 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markSingleHoles(inputs);
 
   inputs.ground_spacing = groundSpacing(inputs, analysis);
+  inputs.sweep_neighbours = sweepNeighbours(scan, partners, mapped.positions,
+                                            map_from_scanner.translation().cast<float>());
+  partners.partners = {};  // freed before the obstacles are made
   inputs.obstacles =
-      measureObstacles(scan, analysis, inputs, ground_of, mapped.positions, cell_of, threads);
-  inputs.sweep_neighbours = sweepNeighbours(scan, inputs, partners, ground_of, mapped.positions,
-                                            cell_of, map_from_scanner.translation().cast<float>());
+      measureObstacles(analysis, inputs, partners.points, mapped.positions, cell_of, threads);
   inputs.contacts = groundContacts(inputs);
   return inputs;
 }
