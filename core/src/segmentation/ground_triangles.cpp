@@ -358,10 +358,10 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
   const bool across_lines = sweep_partners && !multi_beam;
   if (across_lines)
-    sweep_partners->partners.assign(sweep_partners->points.size(), {kNoPartner, kNoPartner});
+    sweep_partners->partners.assign(sweep_partners->points().size(), {kNoPartner, kNoPartner});
   // Each chosen point of a line with its entry, walking `points` beside the line.
   auto forChosen = [&](const ScanLine& line, auto&& visit) {
-    const std::vector<std::uint32_t>& chosen = sweep_partners->points;
+    const std::vector<std::uint32_t>& chosen = sweep_partners->points();
     auto it = std::lower_bound(chosen.begin(), chosen.end(), line.first);
     for (; it != chosen.end() && *it < line.first + line.count; ++it)
       visit(std::size_t(*it - line.first), std::size_t(it - chosen.begin()));

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -45,14 +46,34 @@ inline constexpr double kLowestScannerHeight = 0.3;
 // where there is no such line (the ends of a partial turn, a fan left out); `partners` stays empty
 // for a multi-beam frame.
 inline constexpr std::uint32_t kNoPartner = 0xFFFFFFFFU;
-struct SweepPartners {
-  std::vector<std::uint32_t> points;
-  std::vector<std::array<std::uint32_t, 2>> partners;  // per entry of `points`
-  // The entry of scan point `point` in `points`, or kNoPartner.
-  std::uint32_t entryOf(std::size_t point) const {
-    const auto it = std::lower_bound(points.begin(), points.end(), point);
-    return it != points.end() && *it == point ? std::uint32_t(it - points.begin()) : kNoPartner;
+class SweepPartners {
+ public:
+  // `points`: ascending scan indices, all below `scan_size`.
+  SweepPartners(std::vector<std::uint32_t> points, std::size_t scan_size)
+      : points_(std::move(points)), bits_((scan_size + 63) / 64, 0), rank_(bits_.size(), 0) {
+    for (const std::uint32_t point : points_)
+      bits_[point / 64] |= std::uint64_t{1} << (point % 64);
+    std::uint32_t before = 0;
+    for (std::size_t word = 0; word < bits_.size(); ++word) {
+      rank_[word] = before;
+      before += std::uint32_t(std::popcount(bits_[word]));
+    }
   }
+  const std::vector<std::uint32_t>& points() const { return points_; }
+  // The entry of scan point `point` in points(), or kNoPartner: a bit per scan point and a count
+  // per 64 of them (no search, a fiftieth of a per-point index's memory).
+  std::uint32_t entryOf(std::size_t point) const {
+    const std::uint64_t word = bits_[point / 64], bit = std::uint64_t{1} << (point % 64);
+    if (!(word & bit)) return kNoPartner;
+    return rank_[point / 64] + std::uint32_t(std::popcount(word & (bit - 1)));
+  }
+  // Per entry of points(): its partners before and after; empty when none were looked for.
+  std::vector<std::array<std::uint32_t, 2>> partners;
+
+ private:
+  std::vector<std::uint32_t> points_;
+  std::vector<std::uint64_t> bits_;
+  std::vector<std::uint32_t> rank_;
 };
 
 // The triangles (scan point indices) over the ground points (`ground_of`: plane per point, -1 not

@@ -403,17 +403,17 @@ std::vector<MapObstacle> measureObstacles(const ScanAnalysis& analysis, const Ma
   return obstacles;
 }
 
-// Each obstacle's neighbouring beams across the sweep (SweepNeighbours). `partners.points` are the
-// obstacles' points, as measureObstacles keeps them: an entry's index is its obstacle's.
+// Each obstacle's neighbouring beams across the sweep (SweepNeighbours). `partners.points()` are
+// the obstacles' points, as measureObstacles keeps them: an entry's index is its obstacle's.
 SweepNeighbours sweepNeighbours(const Scan& scan, const detail::SweepPartners& partners,
                                 const std::vector<Eigen::Vector3f>& mapped,
                                 const Eigen::Vector3f& scanner) {
   SweepNeighbours neighbours;
-  const std::size_t obstacles = partners.points.size();
+  const std::size_t obstacles = partners.points().size();
   if (partners.partners.size() != obstacles) return neighbours;
   neighbours.of_obstacle.assign(obstacles, {SweepNeighbours::kNone, SweepNeighbours::kNone});
   for (std::size_t obstacle = 0; obstacle < obstacles; ++obstacle) {
-    const std::size_t i = partners.points[obstacle];
+    const std::size_t i = partners.points()[obstacle];
     const float range = (mapped[i] - scanner).norm();
     for (std::size_t side = 0; side < 2; ++side) {
       const std::uint32_t q = partners.partners[obstacle][side];
@@ -486,10 +486,11 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   const detail::EdgeLimit limit{mapped.positions, analysis.sensor, params.map.max_triangle_edge,
                                 std::max(detail::kLowestScannerHeight, scanner_z)};
   // The points measureObstacles will keep, whose partners across the sweep are wanted.
-  detail::SweepPartners partners;
+  std::vector<std::uint32_t> obstacle_points;
   for (std::size_t i = 0; i < scan.size(); ++i)
     if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
-      partners.points.push_back(std::uint32_t(i));
+      obstacle_points.push_back(std::uint32_t(i));
+  detail::SweepPartners partners(std::move(obstacle_points), scan.size());
   inputs.ground_mesh = meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor,
                                                       scanner_z, threads, &partners),
                               cell_of, inputs.grid, threads);
@@ -501,7 +502,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                                             map_from_scanner.translation().cast<float>());
   partners.partners = {};  // freed before the obstacles are made
   inputs.obstacles =
-      measureObstacles(analysis, inputs, partners.points, mapped.positions, cell_of, threads);
+      measureObstacles(analysis, inputs, partners.points(), mapped.positions, cell_of, threads);
   inputs.contacts = groundContacts(inputs);
   return inputs;
 }
