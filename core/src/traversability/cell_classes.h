@@ -24,8 +24,9 @@ struct CellClasses {
   std::vector<float> xs, ys;
   std::vector<int> accepted_ground;
   // 1 on free cells whose ground samples are too far apart to rule out an obstacle taller than
-  // the robot's step between them (MapInputs::ground_spacing against the step), or where the
-  // robot's band above the ground lies in an overhang's shadow.
+  // the robot's step between them (MapInputs::ground_spacing against the step), where the
+  // robot's band above the ground lies in an overhang's shadow, or in the wedge a blocking point
+  // may reach into towards the next line (MapInputs::sweep_neighbours).
   std::vector<std::uint8_t> sparse;
 };
 
