@@ -199,59 +199,61 @@ void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem:
 }
 
 void writeScenePly(const SceneGeometry& scene, const std::filesystem::path& file) {
-  struct Vertex {
-    float x, y, z;
-    std::uint8_t r, g, b;
-  };
-  std::vector<Vertex> vertices;
-  std::vector<std::array<std::uint32_t, 3>> faces;
-  for (std::size_t i = 0; i < scene.vertices.size(); ++i) {
-    const auto c = labelColour(scene.vertex_labels[i]);
-    vertices.push_back(
-        {scene.vertices[i].x(), scene.vertices[i].y(), scene.vertices[i].z(), c[0], c[1], c[2]});
-  }
-  faces = scene.triangles;
-  auto addBox = [&](const SceneBox& box) {
-    const auto c = labelColour(box.label);
-    const auto base = std::uint32_t(vertices.size());
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3f sign((corner & 1) ? 1.F : -1.F, (corner & 2) ? 1.F : -1.F,
-                                 (corner & 4) ? 1.F : -1.F);
-      const Eigen::Vector3f p = box.center + box.axes * sign.cwiseProduct(box.half_size);
-      vertices.push_back({p.x(), p.y(), p.z(), c[0], c[1], c[2]});
-    }
+  // Streamed through the checked, buffered file: a scene of tens of millions of triangles is never
+  // held a second time as bytes (nor a third, in a growing string's copies).
+  const std::size_t boxes = scene.walls.size() + scene.obstacles.size();
+  const std::size_t vertex_count = scene.vertices.size() + 8 * boxes;
+  const std::size_t face_count = scene.triangles.size() + 12 * boxes;
+  writeFileAtomically(file, [&](const std::filesystem::path& temporary) {
+    CheckedFile out(temporary, file);
+    out.write(
+        "ply\nformat binary_little_endian 1.0\ncomment Clearway traversability scene (scanner "
+        "frame)\nelement vertex " +
+        std::to_string(vertex_count) +
+        "\nproperty float x\nproperty float y\nproperty float z\n"
+        "property uchar red\nproperty uchar green\nproperty uchar blue\n"
+        "element face " +
+        std::to_string(face_count) + "\nproperty list uchar uint vertex_indices\nend_header\n");
+    auto writeVertex = [&out](const Eigen::Vector3f& p, const std::array<std::uint8_t, 3>& c) {
+      char bytes[3 * sizeof(float) + 3];
+      const float xyz[3] = {p.x(), p.y(), p.z()};
+      std::memcpy(bytes, xyz, sizeof xyz);
+      std::memcpy(bytes + sizeof xyz, c.data(), 3);
+      out.write(std::string_view(bytes, sizeof bytes));
+    };
+    auto writeFace = [&out](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+      char bytes[1 + 3 * sizeof(std::uint32_t)];
+      bytes[0] = char(3);
+      const std::uint32_t corners[3] = {a, b, c};
+      std::memcpy(bytes + 1, corners, sizeof corners);
+      out.write(std::string_view(bytes, sizeof bytes));
+    };
+    for (std::size_t i = 0; i < scene.vertices.size(); ++i)
+      writeVertex(scene.vertices[i], labelColour(scene.vertex_labels[i]));
+    // Each box: its 8 corners, then (below) its 12 faces, boxes in the same order.
+    auto boxCorners = [&](const SceneBox& box) {
+      const auto c = labelColour(box.label);
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3f sign((corner & 1) ? 1.F : -1.F, (corner & 2) ? 1.F : -1.F,
+                                   (corner & 4) ? 1.F : -1.F);
+        writeVertex(box.center + box.axes * sign.cwiseProduct(box.half_size), c);
+      }
+    };
+    for (const SceneBox& box : scene.walls)
+      boxCorners(box);
+    for (const SceneBox& box : scene.obstacles)
+      boxCorners(box);
+    for (const auto& t : scene.triangles)
+      writeFace(t[0], t[1], t[2]);
     static constexpr std::uint32_t kFaces[12][3] = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6},
                                                     {0, 1, 4}, {1, 5, 4}, {2, 6, 3}, {3, 6, 7},
                                                     {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-    for (const auto& f : kFaces)
-      faces.push_back({base + f[0], base + f[1], base + f[2]});
-  };
-  for (const SceneBox& box : scene.walls)
-    addBox(box);
-  for (const SceneBox& box : scene.obstacles)
-    addBox(box);
-
-  std::string bytes =
-      "ply\nformat binary_little_endian 1.0\ncomment Clearway traversability scene (scanner "
-      "frame)\n"
-      "element vertex " +
-      std::to_string(vertices.size()) +
-      "\nproperty float x\nproperty float y\nproperty float z\n"
-      "property uchar red\nproperty uchar green\nproperty uchar blue\n"
-      "element face " +
-      std::to_string(faces.size()) + "\nproperty list uchar uint vertex_indices\nend_header\n";
-  for (const Vertex& v : vertices) {
-    const float xyz[3] = {v.x, v.y, v.z};
-    bytes.append(reinterpret_cast<const char*>(xyz), sizeof xyz);
-    bytes.push_back(char(v.r));
-    bytes.push_back(char(v.g));
-    bytes.push_back(char(v.b));
-  }
-  for (const auto& f : faces) {
-    bytes.push_back(char(3));
-    bytes.append(reinterpret_cast<const char*>(f.data()), sizeof(std::uint32_t) * 3);
-  }
-  writeTextFileAtomically(file, bytes);
+    auto base = std::uint32_t(scene.vertices.size());
+    for (std::size_t box = 0; box < boxes; ++box, base += 8)
+      for (const auto& f : kFaces)
+        writeFace(base + f[0], base + f[1], base + f[2]);
+    out.close();
+  });
 }
 
 void writeResultFolder(const PipelineResult& result, const SegmentationParams& params,
