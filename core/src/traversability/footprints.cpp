@@ -158,8 +158,8 @@ std::vector<std::uint8_t> cellsNearSparse(const std::vector<std::uint8_t>& spars
                     int(std::ceil(kWallGapBridge / grid.resolution)) + 2;
   std::vector<std::uint8_t> near(grid.cells(), 0);
   if (grid.cells() == 0) return near;
-  std::vector<std::uint8_t> source(sparse.begin(), sparse.end());
-  const cv::Mat image(grid.height, grid.width, CV_8UC1, source.data());
+  // Only read: OpenCV's header wants a non-const pointer.
+  const cv::Mat image(grid.height, grid.width, CV_8UC1, const_cast<std::uint8_t*>(sparse.data()));
   cv::Mat grown(grid.height, grid.width, CV_8UC1, near.data());
   cv::dilate(image, grown,
              cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * reach + 1, 2 * reach + 1)),

@@ -33,20 +33,25 @@ using detail::makeFootprints;
 // (after the reachability search, say) take the rest.
 constexpr std::size_t kPartsPerThread = 4;
 
+// The loose placement's fits (PoseFit per cell * orientations + k), and the cells whose tests read
+// something sparse cells change (cellsNearSparse): elsewhere the strict placement reads them.
+struct ReusedFits {
+  std::vector<std::uint8_t> near_sparse;
+  const std::vector<std::uint8_t>& fits;
+};
+
 // Moves the robot's box over the free cells of `classes` in rows part, part + parts, ...: labels,
 // reasons and orientations of `map` (whose grid is set).
 // With `pose_fits` not empty, every pose of every cell the box may fit in is tested and its fit
 // stored there (PoseFit per cell * orientations + k), for the reachability search: it visits
 // nearly all of them, and then only looks its fits up. Without, a cell's test stops at the first
 // fit.
-// With `tested_alike` (the placement with sparse cells blocked), the cells it marks 0 test
-// exactly as in the placement whose fits `loose_fits` holds (cellsNearSparse): their fits are
-// read from there, not tested again.
+// With `reused` (the placement with sparse cells blocked), the cells away from sparse cells read
+// their fits from the other placement's instead of testing again.
 void placeRows(const CellClasses& classes, const Footprints& footprints,
                const FootprintTester& tester, std::size_t part, std::size_t parts,
                TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits,
-               const std::vector<std::uint8_t>* tested_alike = nullptr,
-               const std::vector<std::uint8_t>* loose_fits = nullptr) {
+               const ReusedFits* reused = nullptr) {
   const std::size_t orientations = map.yaws.size();
   // The label's orientation from a cell's fits: the first that fits green from the last cell's,
   // else the first that fits at all.
@@ -95,10 +100,11 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
             fits[k] = std::uint8_t(PoseFit::kCareful);
         // The label's orientation as the loop below picks it.
         pick(fits, last_fit, fit, careful);
-      } else if (tested_alike && !(*tested_alike)[cell]) {
+      } else if (reused && !reused->near_sparse[cell]) {
         // The loops below would find the same first fits as the loose placement's tests (and
         // none without either test, as the loose placement found none).
-        if (coarse || exact) pick(loose_fits->data() + cell * orientations, last_fit, fit, careful);
+        if (coarse || exact)
+          pick(reused->fits.data() + cell * orientations, last_fit, fit, careful);
       } else {
         if (coarse)
           for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
@@ -131,17 +137,17 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
 }
 
 // Tasks placing all rows of a placement, kPartsPerThread per thread.
-std::vector<std::function<void()>> placementTasks(
-    const CellClasses& classes, const Footprints& footprints, const FootprintTester& tester,
-    int threads, TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits,
-    const std::vector<std::uint8_t>* tested_alike = nullptr,
-    const std::vector<std::uint8_t>* loose_fits = nullptr) {
+std::vector<std::function<void()>> placementTasks(const CellClasses& classes,
+                                                  const Footprints& footprints,
+                                                  const FootprintTester& tester, int threads,
+                                                  TraversabilityMap& map,
+                                                  std::vector<std::uint8_t>& pose_fits,
+                                                  const ReusedFits* reused = nullptr) {
   const std::size_t parts = kPartsPerThread * std::size_t(std::max(threads, 1));
   std::vector<std::function<void()>> tasks;
   for (std::size_t part = 0; part < parts; ++part)
-    tasks.emplace_back([&classes, &footprints, &tester, &map, &pose_fits, tested_alike, loose_fits,
-                        part, parts] {
-      placeRows(classes, footprints, tester, part, parts, map, pose_fits, tested_alike, loose_fits);
+    tasks.emplace_back([&classes, &footprints, &tester, &map, &pose_fits, reused, part, parts] {
+      placeRows(classes, footprints, tester, part, parts, map, pose_fits, reused);
     });
   return tasks;
 }
@@ -264,12 +270,12 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   std::vector<std::function<void()>> tasks = {[&] { detail::searchReachable(map, pose_fits); }};
   std::vector<std::uint8_t> no_pose_fits;  // the first fit of each cell is enough here
   // Away from sparse cells the strict placement's tests are the loose one's: it reads them.
-  const std::vector<std::uint8_t> near_sparse =
-      has_sparse ? detail::cellsNearSparse(classes.sparse, map.grid, footprints)
-                 : std::vector<std::uint8_t>{};
+  const ReusedFits reused{has_sparse ? detail::cellsNearSparse(classes.sparse, map.grid, footprints)
+                                     : std::vector<std::uint8_t>{},
+                          pose_fits};
   if (has_sparse)
     for (auto& task : placementTasks(strict_classes, footprints, *strict_tester, threads, map,
-                                     no_pose_fits, &near_sparse, &pose_fits))
+                                     no_pose_fits, &reused))
       tasks.push_back(std::move(task));
   detail::parallelTasks(std::move(tasks), threads);
   if (has_sparse) {
