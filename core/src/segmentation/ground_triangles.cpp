@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 
 #include "parallel.h"
@@ -103,8 +104,15 @@ bool sweepInElevation(const Scan& scan, const std::vector<double>& along,
 }
 
 // A fan starts again where the elevation along a line drops back by more than this many beam
-// steps: more than noise or a return a little off its fan, less than any fan's sweep.
+// steps (more than noise or a return a little off its fan, less than any fan's sweep), to a return
+// nearer than the last or into the lowest kFanRestartShare of what the fan has swept so far: the
+// next fan starts down by the scanner's foot, where this one did. A drop to a farther return
+// higher up is the fan itself passing the top of something near and hitting something far beyond
+// it, seen from a file's origin below the scanner (28 -> 14 deg up Hannover's facades); split
+// there, its upper part sorts between the neighbouring fans as a fan without ground and cuts
+// their floor apart.
 constexpr double kFanRestartSteps = 10.0;
+constexpr double kFanRestartShare = 0.25;
 
 // What the ground is triangulated between, side by side: the scan's lines, or, for a rotating
 // scanner, the fans a line holds when its file ran several together (a file whose origin lies on
@@ -116,6 +124,10 @@ struct Fans {
   std::vector<double> angles;
 };
 
+double squaredRange(const Point3f& p) {
+  return double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z;
+}
+
 Fans fansOf(const Scan& scan, const SensorGeometry& sensor, const std::vector<double>& along) {
   Fans fans;
   const bool split =
@@ -124,11 +136,19 @@ Fans fansOf(const Scan& scan, const SensorGeometry& sensor, const std::vector<do
   for (const ScanLine& line : scan.lines) {
     std::size_t first = line.first;
     const std::size_t end = line.first + line.count;
-    for (std::size_t i = line.first + 1; split && i < end; ++i)
-      if (along[i] < along[i - 1] - restart) {
+    double low = split && line.count > 0 ? along[first] : 0.0, high = low;
+    for (std::size_t i = line.first + 1; split && i < end; ++i) {
+      if (along[i] < along[i - 1] - restart &&
+          (squaredRange(scan.points[i]) < squaredRange(scan.points[i - 1]) ||
+           along[i] <= low + std::max(restart, kFanRestartShare * (high - low)))) {
         fans.lines.push_back({first, i - first, line.beta});
         first = i;
+        low = high = along[i];
+        continue;
       }
+      low = std::min(low, along[i]);
+      high = std::max(high, along[i]);
+    }
     fans.lines.push_back({first, end - first, line.beta});
   }
   if (fans.lines.size() == scan.lines.size()) {
@@ -184,9 +204,10 @@ void partnersByAngle(const std::vector<double>& along, const ScanLine& a, const 
 // two of the other (its ground unclassified, or the robot moved) would cut the ground into strips.
 // Passes are runs of fans in file order, broken where the angle jumps (more than kPassBreak) or
 // the run has come once around. Where two passes cover the same angles, the fans of the one with
-// fewer ground points there are left out of the triangulation (their points still count on the
-// map). Returns which fans to keep.
+// fewer ground points there, stretch by stretch of kOverlapStretch line steps, are left out of
+// the triangulation (their points still count on the map). Returns which fans to keep.
 constexpr double kPassBreak = 15.0 * kPi / 180.0;
+constexpr double kOverlapStretch = 4.0;
 
 std::vector<bool> oneFanPerAngle(const Fans& fans, const std::vector<std::int32_t>& ground_of,
                                  const SensorGeometry& sensor) {
@@ -213,13 +234,16 @@ std::vector<bool> oneFanPerAngle(const Fans& fans, const std::vector<std::int32_
     previous = angle;
   }
   if (passes.size() < 2) return keep;
-  // Whether an angle lies inside a pass's sweep, half a line step in from its ends.
+  // Whether an angle lies within a pass's sweep or less than half a line step beyond its ends: a
+  // fan that close to another pass's first or last fan covers the same angle again (a turn that
+  // overran by a third of a step, its first fan cut short where the file began, on Hannover's
+  // scan100), and the two side by side would leave no ground between them.
   const double margin = 0.5 * sensor.between_line_step;
   auto inside = [&](const Pass& pass, double angle) {
     const double way = pass.sweep >= 0.0 ? 1.0 : -1.0;
     double offset = std::fmod(way * (angle - pass.start), 2.0 * kPi);
     if (offset < 0.0) offset += 2.0 * kPi;
-    return offset > margin && offset < std::abs(pass.sweep) - margin;
+    return offset < std::abs(pass.sweep) + margin || offset > 2.0 * kPi - margin;
   };
   auto groundOf = [&](std::size_t f) {
     std::size_t ground = 0;
@@ -227,23 +251,37 @@ std::vector<bool> oneFanPerAngle(const Fans& fans, const std::vector<std::int32_
       ground += ground_of[i] >= 0;
     return ground;
   };
+  // Where two passes cover the same angles, the one with more ground points keeps each stretch of
+  // kOverlapStretch line steps: a turn whose first fans were cut short where the file began has
+  // the floor there in its overrun, and elsewhere in its first pass.
+  const double stretch = kOverlapStretch * sensor.between_line_step;
   for (std::size_t a = 0; a < passes.size(); ++a)
     for (std::size_t b = a + 1; b < passes.size(); ++b) {
-      // The fans of each pass inside the other's sweep, and their ground points.
-      std::vector<std::size_t> a_in_b, b_in_a;
-      std::size_t a_ground = 0, b_ground = 0;
+      // Per stretch of the overlap (counted from b's first fan the way b turned): each pass's
+      // fans there and their ground points.
+      struct Stretch {
+        std::vector<std::size_t> fans[2];
+        std::size_t ground[2] = {0, 0};
+      };
+      std::map<long, Stretch> stretches;
+      const double way = passes[b].sweep >= 0.0 ? 1.0 : -1.0;
+      auto add = [&](int side, std::size_t f) {
+        double offset = std::fmod(way * (fans.angles[f] - passes[b].start), 2.0 * kPi);
+        if (offset < 0.0) offset += 2.0 * kPi;
+        if (offset > 2.0 * kPi - margin) offset -= 2.0 * kPi;  // just before b's first fan
+        Stretch& at = stretches[stretch > 0.0 ? long(std::floor((offset + margin) / stretch)) : 0L];
+        at.fans[side].push_back(f);
+        at.ground[side] += groundOf(f);
+      };
       for (std::size_t f : passes[a].fans)
-        if (inside(passes[b], fans.angles[f])) {
-          a_in_b.push_back(f);
-          a_ground += groundOf(f);
-        }
+        if (inside(passes[b], fans.angles[f])) add(0, f);
       for (std::size_t f : passes[b].fans)
-        if (inside(passes[a], fans.angles[f])) {
-          b_in_a.push_back(f);
-          b_ground += groundOf(f);
-        }
-      for (std::size_t f : a_ground >= b_ground ? b_in_a : a_in_b)
-        keep[f] = false;
+        if (inside(passes[a], fans.angles[f])) add(1, f);
+      for (const auto& [index, at] : stretches) {
+        if (at.fans[0].empty() || at.fans[1].empty()) continue;
+        for (std::size_t f : at.fans[at.ground[0] >= at.ground[1] ? 1 : 0])
+          keep[f] = false;
+      }
     }
   return keep;
 }
