@@ -208,6 +208,7 @@ void partnersByAngle(const std::vector<double>& along, const ScanLine& a, const 
 // the triangulation (their points still count on the map). Returns which fans to keep.
 constexpr double kPassBreak = 15.0 * kPi / 180.0;
 constexpr double kOverlapStretch = 4.0;
+constexpr double kMostStretches = 1e6;
 
 std::vector<bool> oneFanPerAngle(const Fans& fans, const std::vector<std::int32_t>& ground_of,
                                  const SensorGeometry& sensor) {
@@ -264,12 +265,18 @@ std::vector<bool> oneFanPerAngle(const Fans& fans, const std::vector<std::int32_
         std::size_t ground[2] = {0, 0};
       };
       std::map<long, Stretch> stretches;
+      // The stretch an offset from b's first fan falls in; bounded, so that a degenerate line step
+      // cannot overflow it (a turn has a few hundred stretches at most).
+      auto stretchOf = [&](double offset) -> long {
+        if (stretch <= 0.0) return 0;
+        return long(std::min(std::floor((offset + margin) / stretch), kMostStretches));
+      };
       const double way = passes[b].sweep >= 0.0 ? 1.0 : -1.0;
       auto add = [&](int side, std::size_t f) {
         double offset = std::fmod(way * (fans.angles[f] - passes[b].start), 2.0 * kPi);
         if (offset < 0.0) offset += 2.0 * kPi;
         if (offset > 2.0 * kPi - margin) offset -= 2.0 * kPi;  // just before b's first fan
-        Stretch& at = stretches[stretch > 0.0 ? long(std::floor((offset + margin) / stretch)) : 0L];
+        Stretch& at = stretches[stretchOf(offset)];
         at.fans[side].push_back(f);
         at.ground[side] += groundOf(f);
       };
