@@ -5,7 +5,9 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -20,12 +22,66 @@ Eigen::Vector3d upDirection(const Scan& scan) {
   return Eigen::Vector3d(r[6], r[7], r[8]).normalized();
 }
 
+namespace {
+
+// What a plane is to a robot under gravity's `up`: ground (no steeper than it drives, the scanner
+// above it), a ceiling (as flat, the scanner below it) or a wall.
+PlaneKind kindOf(const Eigen::Vector3d& normal, double offset, const Eigen::Vector3d& up,
+                 const GroundParams& params) {
+  const double facing = normal.dot(up);
+  const double scanner_height = facing < 0 ? offset : -offset;
+  if (std::abs(facing) < std::cos(params.max_slope_deg * std::numbers::pi / 180.0))
+    return PlaneKind::kWall;
+  if (scanner_height < params.min_scanner_height) return PlaneKind::kCeiling;
+  return PlaneKind::kGround;
+}
+
+// Of the candidates validation removed, the floor with the most supporting points, if any.
+const RejectedPlane* rejectedFloor(const ScanAnalysis& analysis, const GroundParams& params) {
+  const RejectedPlane* floor = nullptr;
+  for (const RejectedPlane& plane : analysis.planes.rejected_planes)
+    if (kindOf(plane.normal, plane.offset, analysis.up, params) == PlaneKind::kGround &&
+        (!floor || plane.support_points > floor->support_points))
+      floor = &plane;
+  return floor;
+}
+
+std::string fixed(double value, int decimals) {
+  std::ostringstream text;
+  text << std::fixed << std::setprecision(decimals) << value;
+  return text.str();
+}
+
+// A floor was seen but the support test removed it: which limits it failed, measured.
+std::string rejectedFloorReason(const RejectedPlane& floor, const ValidatedPlanes& planes,
+                                const std::string& slope) {
+  std::string why;
+  if (floor.inner_fraction < planes.min_inner_fraction)
+    why = "its points do not lie on one flat surface (inner fraction " +
+          fixed(floor.inner_fraction, 2) + ", at least " + fixed(planes.min_inner_fraction, 2) +
+          " needed: uneven, cluttered or stepped ground fitted as one plane)";
+  if (floor.support_area < planes.min_area)
+    why += std::string(why.empty() ? "" : "; ") + "its largest connected supported area is " +
+           fixed(floor.support_area, 2) + " m2, at least " + fixed(planes.min_area, 2) +
+           " m2 needed (too little of it seen)";
+  return "no ground plane found: a floor candidate was seen (" +
+         std::to_string(floor.support_points) + " points on a plane flatter than " + slope +
+         " below the scanner) but failed plane validation: " + why +
+         "; move the robot or the arm so that more of the floor is in view and scan again";
+}
+
+}  // namespace
+
 // Why no ground was found, from what the earlier stages saw: the cause, then what to do.
-std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& params) {
+std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& params,
+                           bool up_known) {
   const std::string slope = std::to_string(int(params.max_slope_deg)) + " deg";
   if (analysis.sensor.lines < 2)
     return "no ground plane found: the scan has one scan line, and planes need neighbouring "
            "lines (a multi-beam frame? give its rings with --rings N)";
+  if (up_known)
+    if (const RejectedPlane* floor = rejectedFloor(analysis, params))
+      return rejectedFloorReason(*floor, analysis.planes, slope);
   if (analysis.planes.planes.empty())
     return "no ground plane found: no plane in the scan (" +
            std::to_string(analysis.segments.size()) + " line segments, " +
@@ -44,22 +100,13 @@ std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& par
 }
 
 void selectGround(ScanAnalysis& analysis, const GroundParams& params) {
-  const double cos_max_slope = std::cos(params.max_slope_deg * std::numbers::pi / 180.0);
   analysis.ground_planes.clear();
   analysis.reference_ground = -1;
   double best_area = 0.0;
   for (std::size_t k = 0; k < analysis.planes.planes.size(); ++k) {
     Plane& plane = analysis.planes.planes[k];
-    // The plane's normal turned to point up, and the scanner's height above the plane.
-    const double facing = plane.normal.dot(analysis.up);
-    const double cos_slope = std::abs(facing);
-    const double scanner_height = facing < 0 ? plane.offset : -plane.offset;
-    if (cos_slope < cos_max_slope) {
-      plane.kind = PlaneKind::kWall;
-    } else if (scanner_height < params.min_scanner_height) {
-      plane.kind = PlaneKind::kCeiling;
-    } else {
-      plane.kind = PlaneKind::kGround;
+    plane.kind = kindOf(plane.normal, plane.offset, analysis.up, params);
+    if (plane.kind == PlaneKind::kGround) {
       analysis.ground_planes.push_back(int(k));
       if (plane.support_area > best_area) {
         best_area = plane.support_area;

@@ -299,9 +299,14 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
   ValidatedPlanes result;
   result.point_plane.assign(scan.size(), -1);
   std::vector<float> best_distance(scan.size(), std::numeric_limits<float>::max());
+  result.min_area = params.min_area;
+  result.min_inner_fraction = params.min_inner_fraction;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     if (!candidates[k].validated) {
       ++result.rejected;
+      const Plane& plane = candidates[k];
+      result.rejected_planes.push_back({plane.normal, plane.offset, plane.support_points,
+                                        plane.support_area, plane.inner_fraction});
       continue;
     }
     const auto index = std::int32_t(result.planes.size());

@@ -111,7 +111,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
       // A scan with no line neighbours or no plane at all says so: that, not the missing pose, is
       // what the operator must change.
       analysis.reason = analysis.sensor.lines < 2 || analysis.planes.planes.empty()
-                            ? noGroundReason(analysis, params.ground)
+                            ? noGroundReason(analysis, params.ground, /*up_known=*/false)
                             : estimate.reason;
     }
   }

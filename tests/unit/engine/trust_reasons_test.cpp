@@ -1,6 +1,6 @@
 // Reasons that are true: when no ground is found the reason names the cause (a ceiling-only scan,
-// one scan line, a scan without pose, too few points), and a scan too sparse to vouch for any cell
-// says so instead of showing green.
+// one scan line, a scan without pose, a floor that failed validation, too few points), and a scan
+// too sparse to vouch for any cell says so instead of showing green.
 
 #include <gtest/gtest.h>
 
@@ -79,6 +79,32 @@ TEST(NoGroundReason, AScanWithoutPoseSaysSoAndDoesNotAdviseMovingTheArm) {
   EXPECT_EQ(result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
   // With its pose the same scan finds its ground.
   EXPECT_TRUE(run.result.trusted()) << run.result.analysis->reason;
+}
+
+TEST(NoGroundReason, AFloorThatFailedValidationSaysSoWithWhatWasMeasured) {
+  // The garage's floor is in view; held to limits no plane meets, the support test removes it.
+  // The reason says a floor was seen and which limit it failed, not that the floor is out of view.
+  const auto run = test::simulateAndSegment("garage", 200);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  SegmentationParams not_flat;
+  not_flat.validation.min_inner_fraction = 0.99;
+  const PipelineResult flat_result = runPipeline(run.simulated.scan, not_flat);
+  EXPECT_FALSE(flat_result.trusted());
+  const std::string& flat_reason = flat_result.analysis->reason;
+  EXPECT_NE(flat_reason.find("a floor candidate was seen"), std::string::npos) << flat_reason;
+  EXPECT_NE(flat_reason.find("inner fraction"), std::string::npos) << flat_reason;
+  EXPECT_NE(flat_reason.find("0.99 needed"), std::string::npos) << flat_reason;
+  EXPECT_EQ(flat_reason.find("out of view"), std::string::npos) << flat_reason;
+  EXPECT_EQ(flat_result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
+
+  SegmentationParams too_small;
+  too_small.validation.min_area = 500.0;
+  const PipelineResult small_result = runPipeline(run.simulated.scan, too_small);
+  EXPECT_FALSE(small_result.trusted());
+  const std::string& small_reason = small_result.analysis->reason;
+  EXPECT_NE(small_reason.find("supported area"), std::string::npos) << small_reason;
+  EXPECT_NE(small_reason.find("500.00 m2 needed"), std::string::npos) << small_reason;
+  EXPECT_EQ(small_reason.find("inner fraction"), std::string::npos) << small_reason;
 }
 
 TEST(NoGroundReason, TooFewPointsSaysSo) {

@@ -65,11 +65,24 @@ struct SupportImage {
   bool contains(const Eigen::Vector3d& p) const;
 };
 
+// A candidate plane the support test removed, as measured: the no-ground reason names a floor
+// that was seen but failed validation instead of saying the floor is out of view.
+struct RejectedPlane {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  double offset = 0.0;
+  std::size_t support_points = 0;
+  double support_area = 0.0;    // [m^2]
+  double inner_fraction = 0.0;  // share of support in the inner half of the band
+};
+
 struct ValidatedPlanes {
   std::vector<Plane> planes;              // the validated ones only
   std::vector<SupportImage> supports;     // one per plane
   std::vector<std::int32_t> point_plane;  // per scan point: plane index or -1
   std::size_t rejected = 0;               // candidate planes the support test removed
+  std::vector<RejectedPlane> rejected_planes;
+  // The limits they were held to (ValidationParams::min_area, min_inner_fraction).
+  double min_area = 0.0, min_inner_fraction = 0.0;
 };
 
 // What validation needs to know of the sensor: how far apart its lines may lie on a plane, and

@@ -143,9 +143,11 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
 // when it has none (the analysis then estimates it instead: see up_estimation.h).
 Eigen::Vector3d upDirection(const Scan& scan);
 
-// Why no ground was found, from what the stages saw (one line, no plane, only ceilings, only
-// walls): the cause, then what to do.
-std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& params);
+// Why no ground was found, from what the stages saw (one line, a floor that failed validation,
+// no plane, only ceilings, only walls): the cause, then what to do. `up_known`: analysis.up is
+// the pose's or a trusted estimate (which planes are floors can be told).
+std::string noGroundReason(const ScanAnalysis& analysis, const GroundParams& params,
+                           bool up_known = true);
 
 // Internal steps, exposed for tests.
 void selectGround(ScanAnalysis& analysis, const GroundParams& params);
