@@ -86,22 +86,23 @@ TEST(NoGroundReason, AFloorThatFailedValidationSaysSoWithWhatWasMeasured) {
   // The reason says a floor was seen and which limit it failed, not that the floor is out of view.
   const auto run = test::simulateAndSegment("garage", 200);
   ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  auto refusedWith = [&](const SegmentationParams& params) {
+    const PipelineResult result = runPipeline(run.simulated.scan, params);
+    EXPECT_FALSE(result.trusted());
+    EXPECT_EQ(result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
+    return result.analysis->reason;
+  };
   SegmentationParams not_flat;
   not_flat.validation.min_inner_fraction = 0.99;
-  const PipelineResult flat_result = runPipeline(run.simulated.scan, not_flat);
-  EXPECT_FALSE(flat_result.trusted());
-  const std::string& flat_reason = flat_result.analysis->reason;
+  const std::string flat_reason = refusedWith(not_flat);
   EXPECT_NE(flat_reason.find("a floor candidate was seen"), std::string::npos) << flat_reason;
   EXPECT_NE(flat_reason.find("inner fraction"), std::string::npos) << flat_reason;
   EXPECT_NE(flat_reason.find("0.99 needed"), std::string::npos) << flat_reason;
   EXPECT_EQ(flat_reason.find("out of view"), std::string::npos) << flat_reason;
-  EXPECT_EQ(flat_result.map.counts[std::size_t(CellLabel::kTraversable)], 0u);
 
   SegmentationParams too_small;
   too_small.validation.min_area = 500.0;
-  const PipelineResult small_result = runPipeline(run.simulated.scan, too_small);
-  EXPECT_FALSE(small_result.trusted());
-  const std::string& small_reason = small_result.analysis->reason;
+  const std::string small_reason = refusedWith(too_small);
   EXPECT_NE(small_reason.find("supported area"), std::string::npos) << small_reason;
   EXPECT_NE(small_reason.find("500.00 m2 needed"), std::string::npos) << small_reason;
   EXPECT_EQ(small_reason.find("inner fraction"), std::string::npos) << small_reason;
