@@ -223,6 +223,16 @@ TEST(TraversabilityStage, ALintelLowerThanTheRobotBlocksThePassage) {
   EXPECT_TRUE(cellAt(map, -0.5, 0.025).reachable);  // its own place
 }
 
+TEST(TraversabilityStage, ALintelWithinTheHeadroomAboveTheRobotBlocksItToo) {
+  // 3 cm above the robot's top: the ground under it and the lintel are each measured to a few
+  // centimetres, so the robot keeps 5 cm of headroom.
+  const TraversabilityMap map = mapOf(corridorWithLintel(testRobot().height + 0.03));
+  const Cell under = cellAt(map, 1.6, 0.025);
+  EXPECT_EQ(under.label, CellLabel::kImpassable) << describe(under);
+  EXPECT_EQ(reasonName(under.reason), "too low");
+  EXPECT_FALSE(cellAt(map, 3.2, 0.025).reachable);
+}
+
 TEST(TraversabilityStage, ALintelHigherThanTheRobotLetsItPass) {
   const double above_top = testRobot().height + 0.3;
   const TraversabilityMap map = mapOf(corridorWithLintel(above_top));
