@@ -187,6 +187,13 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
     for (int column = 1; column + 1 < grid.width; ++column) {
       if (observed.at<std::uint8_t>(row, column) || enclosed.at<std::uint8_t>(row, column))
         continue;
+      // Beside a blocked cell the gap may hold the obstacle's edge.
+      bool beside_blocked = false;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc)
+          beside_blocked =
+              beside_blocked || blocked_mask.at<std::uint8_t>(row + dr, column + dc) != 0;
+      if (beside_blocked) continue;
       auto seen = [&](int dc, int dr) {
         return observed.at<std::uint8_t>(row + dr, column + dc) != 0;
       };

@@ -70,10 +70,12 @@ Footprints makeFootprints(const RobotParams& robot, double resolution,
                           const std::vector<double>& yaws, int threads);
 
 // Unobserved cells the careful check tolerates (1, else 0): single-cell gaps between observed
-// cells (free or blocked) on two opposite sides, e.g. beside a door jamb where the next beam hit
-// the jamb. Not the open edge of the observed space (past an invisible glass wall, over an unseen
-// drop), not a wider unobserved strip (a thin wall seen end-on), and not the inside of an obstacle
-// between its sparse points.
+// cells on two opposite sides, with no blocked cell around them (a gap between scan lines in the
+// open). Not a gap beside a blocked cell (the obstacle's edge may lie in it: where two paving
+// slabs meet with a step, the first blocking returns were 10 cm in from the edge and the box
+// reached over the gap), not the open edge of the observed space (past an invisible glass wall,
+// over an unseen drop), not a wider unobserved strip (a thin wall seen end-on), and not the inside
+// of an obstacle between its sparse points.
 std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid);
 
 // Cells whose box tests read nothing that sparse cells change (0), else 1: beyond the box's reach

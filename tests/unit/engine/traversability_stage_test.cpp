@@ -97,6 +97,26 @@ TEST(TraversabilityStage, ACorridorTwoCentimetresNarrowerThanTheRobotIsTooNarrow
     }
 }
 
+// A floor ending at x = 4 m at a raised slab whose first blocking returns lie a cell in (x
+// = 4.075): the cell column between was not observed, and the slab's edge may lie anywhere in it.
+// The box may not reach over it, though a gap between scan lines in the open is tolerated.
+TEST(TraversabilityStage, AnUnobservedGapBesideAnObstacleIsNotReachedOver) {
+  HandBuiltMap built(-3.0, -1.5, 6.0, 1.5);
+  built.floor(-2.75, -1.25, 4.0, 1.25).robotAt(-1.5, 0.0, 0.0);
+  for (double x = 4.075; x < 5.0; x += 0.05)
+    for (double y = -1.225; y < 1.25; y += 0.05)
+      built.point(x, y, 0.12);
+  const TraversabilityMap map = mapOf(built);
+  // From this cell the box's edge would lie 3-7 cm past x = 4 m, in the gap.
+  const Cell reaching = cellAt(map, 3.625, 0.025);
+  EXPECT_EQ(reaching.label, CellLabel::kImpassable) << describe(reaching);
+  EXPECT_EQ(reasonName(reaching.reason), "too narrow");
+  // Two cells back it stays short of the gap and fits.
+  const Cell short_of = cellAt(map, 3.525, 0.025);
+  EXPECT_TRUE(short_of.label == CellLabel::kCareful || short_of.label == CellLabel::kTraversable)
+      << describe(short_of);
+}
+
 TEST(TraversabilityStage, AWideCorridorIsGreen) {
   const TraversabilityMap map = mapOf(corridor(testRobot().width + 0.3));
   for (double x = kInsideFrom; x <= kInsideTo; x += 0.1)
