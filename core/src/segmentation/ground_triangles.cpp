@@ -163,7 +163,7 @@ Fans fansOf(const Scan& scan, const SensorGeometry& sensor, const std::vector<do
     for (std::size_t i = fan.first; i < fan.first + fan.count; ++i) {
       if (!scan.isValid(i)) continue;
       const Point3f& p = scan.points[i];
-      const double range = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+      const double range = std::sqrt(squaredRange(p));
       if (range <= 0.0) continue;
       const int part = along[i] < 0.0 ? 0 : 1;
       sums[part][0] += p.x / range;

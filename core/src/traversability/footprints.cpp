@@ -182,18 +182,16 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
   cv::Mat enclosed;
   cv::morphologyEx(blocked_mask, enclosed, cv::MORPH_CLOSE,
                    cv::getStructuringElement(cv::MORPH_RECT, cv::Size(size, size)));
+  // Beside a blocked cell a gap may hold the obstacle's edge.
+  cv::Mat beside_blocked;
+  cv::dilate(blocked_mask, beside_blocked,
+             cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
   std::vector<std::uint8_t> tolerated(grid.cells(), 0);
   for (int row = 1; row + 1 < grid.height; ++row)
     for (int column = 1; column + 1 < grid.width; ++column) {
-      if (observed.at<std::uint8_t>(row, column) || enclosed.at<std::uint8_t>(row, column))
+      if (observed.at<std::uint8_t>(row, column) || enclosed.at<std::uint8_t>(row, column) ||
+          beside_blocked.at<std::uint8_t>(row, column))
         continue;
-      // Beside a blocked cell the gap may hold the obstacle's edge.
-      bool beside_blocked = false;
-      for (int dr = -1; dr <= 1; ++dr)
-        for (int dc = -1; dc <= 1; ++dc)
-          beside_blocked =
-              beside_blocked || blocked_mask.at<std::uint8_t>(row + dr, column + dc) != 0;
-      if (beside_blocked) continue;
       auto seen = [&](int dc, int dr) {
         return observed.at<std::uint8_t>(row + dr, column + dc) != 0;
       };

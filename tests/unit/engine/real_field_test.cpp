@@ -453,9 +453,10 @@ Scan groundOriginTurn(const std::vector<GroundOriginFan>& fans) {
 }
 
 // Cells without observed ground at `from`-`to` metres from the axis and between the angles
-// [rad] `low` and `high`, and how many cells lie there.
+// [deg] `low_deg` and `high_deg`, and how many cells lie there.
 std::pair<std::size_t, std::size_t> unobservedIn(const TraversabilityMap& map, double from,
-                                                 double to, double low, double high) {
+                                                 double to, double low_deg, double high_deg) {
+  const double low = low_deg * std::numbers::pi / 180.0, high = high_deg * std::numbers::pi / 180.0;
   std::size_t cells = 0, unobserved = 0;
   for (int row = 0; row < map.grid.height; ++row)
     for (int column = 0; column < map.grid.width; ++column) {
@@ -482,8 +483,7 @@ TEST(GroundLevelOrigin, AFanPassingOverSomethingNearStaysOneFan) {
   }
   const PipelineResult result = runPipeline(groundOriginTurn(fans), SegmentationParams{});
   ASSERT_TRUE(result.trusted()) << result.analysis->reason;
-  const double deg = std::numbers::pi / 180.0;
-  const auto [unobserved, cells] = unobservedIn(result.map, 1.0, 1.9, 50 * deg, 110 * deg);
+  const auto [unobserved, cells] = unobservedIn(result.map, 1.0, 1.9, 50.0, 110.0);
   EXPECT_GT(cells, 300u);
   EXPECT_LT(double(unobserved), 0.02 * double(cells)) << unobserved << " of " << cells;
 }
@@ -505,9 +505,8 @@ TEST(GroundLevelOrigin, AnOverrunKeepsTheFloorWhereTheFirstFansWereCutShort) {
   }
   const PipelineResult result = runPipeline(groundOriginTurn(fans), SegmentationParams{});
   ASSERT_TRUE(result.trusted()) << result.analysis->reason;
-  const double deg = std::numbers::pi / 180.0;
   // The sector of the cut-short fans, a fan's step in from its ends.
-  const auto [unobserved, cells] = unobservedIn(result.map, 1.0, 2.7, 2 * deg, 14 * deg);
+  const auto [unobserved, cells] = unobservedIn(result.map, 1.0, 2.7, 2.0, 14.0);
   EXPECT_GT(cells, 100u);
   EXPECT_LT(double(unobserved), 0.05 * double(cells)) << unobserved << " of " << cells;
 }
