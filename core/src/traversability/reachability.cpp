@@ -361,6 +361,32 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
 
 }  // namespace
 
+std::vector<std::uint32_t> cellsTheSearchMayEnter(
+    const TraversabilityMap& map, const std::vector<std::uint8_t>& fit_orientation) {
+  const MapGrid& grid = map.grid;
+  const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  if (map.yaws.empty() || map.robot_orientation < 0 || !grid.inside(start.x(), start.y()))
+    return {};
+  // Breadth first over cells; the robot's own cell is entered whatever its tests say.
+  std::vector<std::uint8_t> queued(grid.cells(), 0);
+  std::vector<std::uint32_t> cells = {std::uint32_t(grid.index(start.x(), start.y()))};
+  queued[cells.front()] = 1;
+  for (std::size_t next = 0; next < cells.size(); ++next) {
+    const std::size_t cell = cells[next];
+    const int row = int(cell / std::size_t(grid.width));
+    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
+    for (int n = 0; n < 8; ++n) {
+      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
+      if (!grid.inside(c, r)) continue;
+      const std::size_t neighbour = grid.index(c, r);
+      if (queued[neighbour] || fit_orientation[neighbour] == kNoOrientation) continue;
+      queued[neighbour] = 1;
+      cells.push_back(std::uint32_t(neighbour));
+    }
+  }
+  return cells;
+}
+
 void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits) {
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();

@@ -14,9 +14,19 @@ namespace clearway::detail {
 // For each orientation, the orientations one turn step away (sorted by angle, modulo 180 deg).
 std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws);
 
+// The cells whose fits the search from the robot's pose (map.robot_pose, map.robot_orientation)
+// may read and that the box fits in somewhere (`fit_orientation` not kNoOrientation, one entry per
+// cell): the robot's own cell, and every such cell connected to it through such cells (eight
+// neighbours). The search enters no other cell: a move needs a fitting pose at both ends. Cells
+// where nothing fits are met too, but their fits are all kBlocked. Empty when the search cannot
+// start (no orientation, the pose off the map).
+std::vector<std::uint32_t> cellsTheSearchMayEnter(const TraversabilityMap& map,
+                                                  const std::vector<std::uint8_t>& fit_orientation);
+
 // Fills map.reach, map.reachable_cells and map.pose_fit from the robot's pose
 // (map.robot_pose, map.robot_orientation), given the fit of every pose (PoseFit per
-// cell * map.yaws.size() + k; kBlocked wherever the box does not fit or the cell is not free).
+// cell * map.yaws.size() + k; kBlocked wherever the box does not fit or the cell is not free). Only
+// the fits of cellsTheSearchMayEnter's cells and of cells where nothing fits are read.
 void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits);
 
 }  // namespace clearway::detail

@@ -33,6 +33,25 @@ using detail::makeFootprints;
 // (after the reachability search, say) take the rest.
 constexpr std::size_t kPartsPerThread = 4;
 
+// A pose's fit between the label loop and completeFits: the coarse test failed, the exact test
+// was not tried yet. Never left in the fits the search reads.
+constexpr std::uint8_t kCoarseFailed = 4;
+
+bool fitsComplete(const std::uint8_t* fits, std::size_t orientations) {
+  return std::none_of(fits, fits + orientations, [](std::uint8_t fit) {
+    return fit == std::uint8_t(PoseFit::kUntested) || fit == kCoarseFailed;
+  });
+}
+
+// Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged box in
+// every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
+struct TestRadii {
+  double coarse, exact;
+  explicit TestRadii(const Footprints& footprints)
+      : coarse(footprints.inner_radius + kGreenMarginCells),
+        exact(footprints.inner_radius - kExactTestSlackCells) {}
+};
+
 // The loose placement's fits (PoseFit per cell * orientations + k), and the cells whose tests read
 // something sparse cells change (cellsNearSparse): elsewhere the strict placement reads them.
 struct ReusedFits {
@@ -41,20 +60,19 @@ struct ReusedFits {
 };
 
 // Moves the robot's box over the free cells of `classes` in rows part, part + parts, ...: labels,
-// reasons and orientations of `map` (whose grid is set).
-// With `pose_fits` not empty, every pose of every cell the box may fit in is tested and its fit
-// stored there (PoseFit per cell * orientations + k), for the reachability search: it visits
-// nearly all of them, and then only looks its fits up. Without, a cell's test stops at the first
-// fit.
-// With `reused` (the placement with sparse cells blocked), the cells away from sparse cells read
-// their fits from the other placement's instead of testing again.
+// reasons and orientations of `map` (whose grid is set). A cell's tests stop at the first fit: the
+// coarse test in every orientation, from the one the last cell fitted in, then the exact test.
+// With `pose_fits` not empty, every test made is recorded there (PoseFit per cell * orientations
+// + k; kUntested or kCoarseFailed where a test was not made), for completeFits.
+// With `reused` (the placement with sparse cells blocked), the cells away from sparse cells whose
+// fits are complete read them from the other placement's instead of testing again.
 void placeRows(const CellClasses& classes, const Footprints& footprints,
                const FootprintTester& tester, std::size_t part, std::size_t parts,
                TraversabilityMap& map, std::vector<std::uint8_t>& pose_fits,
                const ReusedFits* reused = nullptr) {
   const std::size_t orientations = map.yaws.size();
-  // The label's orientation from a cell's fits: the first that fits green from the last cell's,
-  // else the first that fits at all.
+  // The label's orientation from a cell's complete fits, as the loops below would find it: the
+  // first that fits green from the last cell's, else the first that fits at all.
   auto pick = [orientations](const std::uint8_t* fits, int last_fit, int& fit, bool& careful) {
     for (const PoseFit wanted : {PoseFit::kClear, PoseFit::kCareful})
       for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
@@ -65,10 +83,7 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
         }
       }
   };
-  // Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged
-  // box in every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
-  const double coarse_radius = footprints.inner_radius + kGreenMarginCells;
-  const double exact_radius = footprints.inner_radius - kExactTestSlackCells;
+  const TestRadii radii(footprints);
   for (int row = int(part); row < map.grid.height; row += int(parts)) {
     // Neighbouring cells tend to fit the same way: start where the last cell fitted.
     int last_fit = 0;
@@ -82,43 +97,45 @@ void placeRows(const CellClasses& classes, const Footprints& footprints,
         continue;
       }
       const float free_radius = tester.clearance(column, row);
-      const bool coarse = free_radius >= coarse_radius;
-      const bool exact = tester.lenientClearance(column, row) >= exact_radius;
+      const bool coarse = free_radius >= radii.coarse;
+      const bool exact = tester.lenientClearance(column, row) >= radii.exact;
       int fit = -1;
       bool careful = false;
+      std::uint8_t* fits = pose_fits.empty() ? nullptr : pose_fits.data() + cell * orientations;
       if (free_radius > footprints.outer_radius) {
         fit = 0;
-        if (!pose_fits.empty())
-          std::fill_n(pose_fits.begin() + std::ptrdiff_t(cell * orientations), orientations,
-                      std::uint8_t(PoseFit::kClear));
-      } else if (!pose_fits.empty()) {
-        std::uint8_t* fits = pose_fits.data() + cell * orientations;
-        for (std::size_t k = 0; k < orientations; ++k)
-          if (coarse && tester.fitsEnlarged(column, row, int(k)))
-            fits[k] = std::uint8_t(PoseFit::kClear);
-          else if (exact && tester.fitsExactlyInCell(column, row, int(k)))
-            fits[k] = std::uint8_t(PoseFit::kCareful);
-        // The label's orientation as the loop below picks it.
-        pick(fits, last_fit, fit, careful);
-      } else if (reused && !reused->near_sparse[cell]) {
+        if (fits) std::fill_n(fits, orientations, std::uint8_t(PoseFit::kClear));
+      } else if (reused && !reused->near_sparse[cell] &&
+                 fitsComplete(reused->fits.data() + cell * orientations, orientations)) {
         // The loops below would find the same first fits as the loose placement's tests (and
         // none without either test, as the loose placement found none).
         if (coarse || exact)
           pick(reused->fits.data() + cell * orientations, last_fit, fit, careful);
       } else {
-        if (coarse)
+        if (fits) std::fill_n(fits, orientations, std::uint8_t(PoseFit::kUntested));
+        if (coarse) {
           for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
             const int k = int((std::size_t(last_fit) + n) % orientations);
-            if (tester.fitsEnlarged(column, row, k)) fit = k;
+            const bool fits_here = tester.fitsEnlarged(column, row, k);
+            if (fits) fits[k] = fits_here ? std::uint8_t(PoseFit::kClear) : kCoarseFailed;
+            if (fits_here) fit = k;
           }
-        if (fit < 0 && exact)
+        } else if (fits) {
+          std::fill_n(fits, orientations, kCoarseFailed);
+        }
+        if (fit < 0 && exact) {
           for (std::size_t n = 0; n < orientations && fit < 0; ++n) {
             const int k = int((std::size_t(last_fit) + n) % orientations);
-            if (tester.fitsExactlyInCell(column, row, k)) {
+            const bool fits_here = tester.fitsExactlyInCell(column, row, k);
+            if (fits) fits[k] = std::uint8_t(fits_here ? PoseFit::kCareful : PoseFit::kBlocked);
+            if (fits_here) {
               fit = k;
               careful = true;
             }
           }
+        } else if (fit < 0 && fits) {
+          std::fill_n(fits, orientations, std::uint8_t(PoseFit::kBlocked));
+        }
       }
       if (fit >= 0) last_fit = fit;
       if (fit < 0) {
@@ -150,6 +167,43 @@ std::vector<std::function<void()>> placementTasks(const CellClasses& classes,
       placeRows(classes, footprints, tester, part, parts, map, pose_fits, reused);
     });
   return tasks;
+}
+
+// Makes the fits of `cells` complete: the tests the label loop did not make, in every
+// orientation (placeRows recorded the others).
+void completeFits(const std::vector<std::uint32_t>& cells, const Footprints& footprints,
+                  const FootprintTester& tester, const MapGrid& grid, int threads,
+                  std::vector<std::uint8_t>& pose_fits) {
+  const std::size_t orientations = footprints.yaw.size();
+  const TestRadii radii(footprints);
+  // Cells dealt out in turn, as rows are in placementTasks: the costly ones, beside walls, lie
+  // together in the list.
+  const std::size_t parts = kPartsPerThread * std::size_t(std::max(threads, 1));
+  std::vector<std::function<void()>> tasks;
+  for (std::size_t part = 0; part < parts; ++part)
+    tasks.emplace_back([&, part] {
+      for (std::size_t i = part; i < cells.size(); i += parts) {
+        const std::size_t cell = cells[i];
+        std::uint8_t* fits = pose_fits.data() + cell * orientations;
+        if (fitsComplete(fits, orientations)) continue;
+        const int row = int(cell / std::size_t(grid.width));
+        const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
+        const bool coarse = tester.clearance(column, row) >= radii.coarse;
+        const bool exact = tester.lenientClearance(column, row) >= radii.exact;
+        for (std::size_t k = 0; k < orientations; ++k) {
+          std::uint8_t fit = fits[k];
+          if (fit == std::uint8_t(PoseFit::kUntested))
+            fit = coarse && tester.fitsEnlarged(column, row, int(k)) ? std::uint8_t(PoseFit::kClear)
+                                                                     : kCoarseFailed;
+          if (fit == kCoarseFailed)
+            fit = std::uint8_t(exact && tester.fitsExactlyInCell(column, row, int(k))
+                                   ? PoseFit::kCareful
+                                   : PoseFit::kBlocked);
+          fits[k] = fit;
+        }
+      }
+    });
+  detail::parallelTasks(std::move(tasks), threads);
 }
 
 }  // namespace
@@ -264,6 +318,10 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   detail::parallelTasks(
       placementTasks(classes, footprints, *loose_tester, threads, loose_placement, pose_fits),
       threads);
+  // The label loop stops at a cell's first fit; the search needs every pose's fit, but only of the
+  // cells it may enter (under a car-mounted sensor a few, in a room nearly all).
+  completeFits(detail::cellsTheSearchMayEnter(map, loose_placement.orientation), footprints,
+               *loose_tester, map.grid, threads, pose_fits);
   // Where the robot can get from its own pose, on the fits found above (cells that are not free,
   // or where the box fits in no orientation, kept kBlocked throughout), beside the placement on
   // vouched-for ground: the search is one thread's work, the rows are shared by all.
