@@ -79,7 +79,7 @@ struct BenchFigures {
     return sums.empty() ? 0.0 : quantile(sums, 0.5);
   }
   OwnTimes ownTimes() const {
-    return {median(), stagesMedian({"lines", "clustering", "validation", "ground"}),
+    return {median(), stagesMedian({"sensor", "lines", "clustering", "validation", "ground"}),
             stagesMedian({"traversability"})};
   }
   double p95() const { return quantile(total_ms, 0.95); }

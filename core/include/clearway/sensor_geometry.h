@@ -37,8 +37,9 @@ struct SensorGeometry {
   std::vector<double> line_angle;
 };
 
-// Reads the geometry from the valid points (sensor at the origin) and the lines' beta angles.
-SensorGeometry describeSensor(const Scan& scan);
+// Reads the geometry from the valid points (sensor at the origin) and the lines' beta angles; the
+// lines are read on up to `threads` threads (the result does not depend on it).
+SensorGeometry describeSensor(const Scan& scan, int threads = 1);
 
 // The largest gap expected between neighbouring ground samples at horizontal distance `range` from
 // a sensor `height` above flat ground: along a line the beam step makes arcs of range x step;

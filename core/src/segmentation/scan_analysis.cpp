@@ -41,17 +41,18 @@ class StageClock {
 ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int threads,
                          const ProgressCallback& progress) {
   ScanAnalysis analysis;
+  StageClock clock(analysis.timings);
   analysis.scan_points = scan.size();
   analysis.valid_points = scan.validCount();
   analysis.up = upDirection(scan);
-  analysis.sensor = describeSensor(scan);
+  analysis.sensor = describeSensor(scan, threads);
+  clock.stop("sensor");
   if (analysis.valid_points < kMinValidPoints) {
     analysis.reason = "scan too sparse: " + std::to_string(analysis.valid_points) +
                       " valid points (at least " + std::to_string(kMinValidPoints) + " needed)";
     analysis.planes.point_plane.assign(scan.size(), -1);
     return analysis;
   }
-  StageClock clock(analysis.timings);
   auto stageProgress = [&](double from, double to) -> ProgressCallback {
     if (!progress) return {};
     return [&, from, to](double fraction) { return progress(from + (to - from) * fraction); };

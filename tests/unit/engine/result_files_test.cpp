@@ -28,7 +28,7 @@ TEST(ResultFolder, HoldsEveryFileTheIssueNamesConsistently) {
   EXPECT_EQ(report.at("map").at("map_from_scanner").size(), 16u);
   EXPECT_GT(report.at("timing_ms").at("total").get<double>(), 0.0);
   for (const char* stage :
-       {"lines", "clustering", "validation", "ground", "traversability", "scene"})
+       {"sensor", "lines", "clustering", "validation", "ground", "traversability", "scene"})
     EXPECT_TRUE(report.at("timing_ms").contains(stage)) << stage;
   const std::string pgm = test::readBytes(directory / "labels.pgm");
   const std::string header = "P5\n" + std::to_string(report.at("map").at("width").get<int>()) +
