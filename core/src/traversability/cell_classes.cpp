@@ -1,12 +1,20 @@
 #include "cell_classes.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <opencv2/imgproc.hpp>
 #include <queue>
 
+#include "../segmentation/parallel.h"
+
 namespace clearway::detail {
 namespace {
+
+// Marks a cell from one of several threads walking beams at once (only ever set to 1).
+void markFromAnyThread(std::uint8_t& flag) {
+  std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
+}
 
 // Ground planes reachable from the reference through contacts no higher than the robot's step.
 std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) {
@@ -125,7 +133,7 @@ std::vector<std::uint8_t> sparseCells(const MapInputs& inputs, const std::vector
 // ground. The walk ends where that band has left (step, height) above the points' own ground,
 // or at the grid's edge.
 std::vector<std::uint8_t> hiddenCells(const ScanAnalysis& analysis, const RobotParams& robot,
-                                      const std::vector<MapObstacle>& blocking) {
+                                      const std::vector<MapObstacle>& blocking, int threads) {
   const MapInputs& inputs = analysis.inputs;
   const MapGrid& grid = inputs.grid;
   std::vector<std::uint8_t> hidden(grid.cells(), 0);
@@ -146,34 +154,38 @@ std::vector<std::uint8_t> hiddenCells(const ScanAnalysis& analysis, const RobotP
   const double step = robot.max_step, top = robot.height;
   // Half a cell per step of the walk: no cell the beam passes over is skipped.
   const double stride = 0.5 * grid.resolution;
-  for (const std::uint32_t cell : used) {
-    const MapObstacle& low = *spans[cell].low;
-    const MapObstacle& high = *spans[cell].high;
-    const Eigen::Vector2d from(low.x, low.y);
-    Eigen::Vector2d direction = from - scanner.head<2>();
-    const double distance = direction.norm();
-    if (distance < stride) continue;  // straight above or below the scanner: no beyond
-    direction /= distance;
-    // Rise of each beam per metre beyond its point, seen from the scanner.
-    const double high_distance =
-        std::max(stride, (Eigen::Vector2d(high.x, high.y) - scanner.head<2>()).norm());
-    const double low_rise = (low.z - scanner.z()) / distance;
-    const double high_rise = (high.z - scanner.z()) / high_distance;
-    const double own_ground = double(low.z) - double(low.height);
-    const double longest = std::hypot(grid.width, grid.height) * grid.resolution;
-    for (double t = stride; t <= longest; t += stride) {
-      const double z_low = low.z + low_rise * t, z_high = high.z + high_rise * t;
-      const double bottom = std::min(z_low, z_high), upper = std::max(z_low, z_high);
-      if (bottom - own_ground >= top || upper - own_ground <= step) break;
-      const Eigen::Vector2d at = from + t * direction;
-      const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
-      if (!grid.inside(c.x(), c.y())) break;
-      const std::size_t index = grid.index(c.x(), c.y());
-      if (inputs.ground_plane[index] < 0) continue;
-      const double ground = inputs.ground_height[index];
-      if (upper - ground > step && bottom - ground < top) hidden[index] = 1;
-    }
-  }
+  detail::parallelChunks(
+      used.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t u = begin; u < end; ++u) {
+          const std::uint32_t cell = used[u];
+          const MapObstacle& low = *spans[cell].low;
+          const MapObstacle& high = *spans[cell].high;
+          const Eigen::Vector2d from(low.x, low.y);
+          Eigen::Vector2d direction = from - scanner.head<2>();
+          const double distance = direction.norm();
+          if (distance < stride) continue;  // straight above or below the scanner: no beyond
+          direction /= distance;
+          // Rise of each beam per metre beyond its point, seen from the scanner.
+          const double high_distance =
+              std::max(stride, (Eigen::Vector2d(high.x, high.y) - scanner.head<2>()).norm());
+          const double low_rise = (low.z - scanner.z()) / distance;
+          const double high_rise = (high.z - scanner.z()) / high_distance;
+          const double own_ground = double(low.z) - double(low.height);
+          const double longest = std::hypot(grid.width, grid.height) * grid.resolution;
+          for (double t = stride; t <= longest; t += stride) {
+            const double z_low = low.z + low_rise * t, z_high = high.z + high_rise * t;
+            const double bottom = std::min(z_low, z_high), upper = std::max(z_low, z_high);
+            if (bottom - own_ground >= top || upper - own_ground <= step) break;
+            const Eigen::Vector2d at = from + t * direction;
+            const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
+            if (!grid.inside(c.x(), c.y())) break;
+            const std::size_t index = grid.index(c.x(), c.y());
+            if (inputs.ground_plane[index] < 0) continue;
+            const double ground = inputs.ground_height[index];
+            if (upper - ground > step && bottom - ground < top) markFromAnyThread(hidden[index]);
+          }
+        }
+      });
   return hidden;
 }
 
@@ -193,54 +205,59 @@ constexpr double kPassedBy = 0.05;
 // lets an obstacle hide in (`widest`).
 void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, double widest,
                      const std::vector<std::uint8_t>& blocking, const std::vector<CellState>& state,
-                     std::vector<std::uint8_t>& sparse) {
+                     std::vector<std::uint8_t>& sparse, int threads) {
   const SweepNeighbours& neighbours = inputs.sweep_neighbours;
   if (neighbours.of_obstacle.size() != inputs.obstacles.size()) return;
   const MapGrid& grid = inputs.grid;
   // Half a cell per step: no cell the chord crosses is skipped.
   const double stride = 0.5 * grid.resolution;
-  for (std::size_t i = 0; i < inputs.obstacles.size(); ++i) {
-    if (blocking[i] != kBlocks) continue;
-    const MapObstacle& o = inputs.obstacles[i];
-    const Eigen::Vector3d at_obstacle(o.x, o.y, o.z);
-    const double range = (at_obstacle - scanner).norm();
-    for (const std::uint32_t neighbour : neighbours.of_obstacle[i]) {
-      if (neighbour == SweepNeighbours::kNone) continue;
-      Eigen::Vector2d pass;
-      double beyond = 0.0;
-      if (neighbour & SweepNeighbours::kBeam) {
-        const SweepNeighbours::Beam& beam = neighbours.beams[neighbour & ~SweepNeighbours::kBeam];
-        pass = {beam.x, beam.y};
-        beyond = beam.beyond;
-      } else {
-        if (blocking[neighbour]) continue;  // the obstacle goes on to the next line: it was seen
-        const MapObstacle& n = inputs.obstacles[neighbour];
-        const Eigen::Vector3d beam = Eigen::Vector3d(n.x, n.y, n.z) - scanner;
-        const double length = beam.norm();
-        if (!(length > 0.0)) continue;
-        pass = (scanner + beam * (range / length)).head<2>();
-        beyond = length - range;
-      }
-      const Eigen::Vector2d from(o.x, o.y);
-      const double chord = (pass - from).norm();
-      if (beyond > kPassedBy && chord <= widest) continue;
-      const int steps = int(std::ceil(chord / stride));
-      for (int k = 1; k < steps; ++k) {
-        const Eigen::Vector2d at = from + (pass - from) * (double(k) / steps);
-        const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
-        if (!grid.inside(c.x(), c.y())) continue;
-        const std::size_t cell = grid.index(c.x(), c.y());
-        if (state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle)
-          sparse[cell] = 1;
-      }
-    }
-  }
+  detail::parallelChunks(
+      inputs.obstacles.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+        for (std::size_t i = begin; i < end; ++i) {
+          if (blocking[i] != kBlocks) continue;
+          const MapObstacle& o = inputs.obstacles[i];
+          const Eigen::Vector3d at_obstacle(o.x, o.y, o.z);
+          const double range = (at_obstacle - scanner).norm();
+          for (const std::uint32_t neighbour : neighbours.of_obstacle[i]) {
+            if (neighbour == SweepNeighbours::kNone) continue;
+            Eigen::Vector2d pass;
+            double beyond = 0.0;
+            if (neighbour & SweepNeighbours::kBeam) {
+              const SweepNeighbours::Beam& beam =
+                  neighbours.beams[neighbour & ~SweepNeighbours::kBeam];
+              pass = {beam.x, beam.y};
+              beyond = beam.beyond;
+            } else {
+              if (blocking[neighbour])
+                continue;  // the obstacle goes on to the next line: it was seen
+              const MapObstacle& n = inputs.obstacles[neighbour];
+              const Eigen::Vector3d beam = Eigen::Vector3d(n.x, n.y, n.z) - scanner;
+              const double length = beam.norm();
+              if (!(length > 0.0)) continue;
+              pass = (scanner + beam * (range / length)).head<2>();
+              beyond = length - range;
+            }
+            const Eigen::Vector2d from(o.x, o.y);
+            const double chord = (pass - from).norm();
+            if (beyond > kPassedBy && chord <= widest) continue;
+            const int steps = int(std::ceil(chord / stride));
+            for (int k = 1; k < steps; ++k) {
+              const Eigen::Vector2d at = from + (pass - from) * (double(k) / steps);
+              const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
+              if (!grid.inside(c.x(), c.y())) continue;
+              const std::size_t cell = grid.index(c.x(), c.y());
+              if (state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle)
+                markFromAnyThread(sparse[cell]);
+            }
+          }
+        }
+      });
 }
 
 }  // namespace
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
-                          const MapParams& params, const RobotPose* own_place) {
+                          const MapParams& params, const RobotPose* own_place, int threads) {
   const MapInputs& inputs = analysis.inputs;
   const MapGrid& grid = inputs.grid;
   const std::size_t cells = grid.cells();
@@ -351,7 +368,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
     if (blocks(i) && classes.reason[inputs.obstacles[i].cell] == CellReason::kTooLow)
       overhanging.push_back(inputs.obstacles[i]);
-  const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging);
+  const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging, threads);
   for (std::size_t cell = 0; cell < cells; ++cell)
     if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
                          classes.state[cell] == CellState::kLowObstacle))
@@ -360,7 +377,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
     blocking[i] = own_body[i] ? kOwnBody : (blocks(i) ? kBlocks : 0);
   markSweepWedges(inputs, analysis.map_from_scanner.translation(), kSpacingPerStep * robot.max_step,
-                  blocking, classes.state, classes.sparse);
+                  blocking, classes.state, classes.sparse, threads);
 
   // Blocking points in CSR layout for the exact narrow-passage check.
   classes.point_start.assign(cells + 1, 0);

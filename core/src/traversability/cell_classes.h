@@ -30,14 +30,16 @@ struct CellClasses {
   std::vector<std::uint8_t> sparse;
 };
 
-// With `own_place`, the robot stands there: returns inside its box are its own body and are
-// dropped, and the cells under it (to the half cell the coarse test adds) are ground. Unobserved
-// floor around it stays unknown: a scanner that sees one hemisphere cannot tell the floor its body
-// hid from a wall behind it.
 // The same classes with every sparse cell blocked (reason kSparse, not by points).
 CellClasses withSparseBlocked(const CellClasses& classes);
 
+// With `own_place`, the robot stands there: returns inside its box are its own body and are
+// dropped, and the cells under it (to the half cell the coarse test adds) are ground. Unobserved
+// floor around it stays unknown: a scanner that sees one hemisphere cannot tell the floor its body
+// hid from a wall behind it. The walks along beams and chords run on up to `threads` threads (the
+// result does not depend on it).
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
-                          const MapParams& params, const RobotPose* own_place = nullptr);
+                          const MapParams& params, const RobotPose* own_place = nullptr,
+                          int threads = 1);
 
 }  // namespace clearway::detail

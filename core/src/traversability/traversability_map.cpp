@@ -286,7 +286,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   detail::parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t part = begin; part < end; ++part)
       if (part == 0)
-        classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose);
+        classes = detail::classifyCells(analysis, robot, grid_params, &map.robot_pose, threads);
       else
         footprints = makeFootprints(robot, grid_params.resolution, map.yaws, 1);
   });
