@@ -137,9 +137,10 @@ void BM_CopyAnalysis(benchmark::State& state) {
   const MapInputs& inputs = analysis.inputs;
   double bytes = bytesOf(analysis.segments) + bytesOf(analysis.planes.point_plane) +
                  bytesOf(inputs.ground_plane) + bytesOf(inputs.ground_height) +
-                 bytesOf(inputs.ground_spacing) + bytesOf(inputs.obstacles) +
-                 bytesOf(inputs.ground_mesh.points) + bytesOf(inputs.ground_mesh.cells) +
-                 bytesOf(inputs.ground_mesh.triangles) + bytesOf(analysis.stairs.cell_staircase);
+                 bytesOf(inputs.seam_step) + bytesOf(inputs.ground_spacing) +
+                 bytesOf(inputs.obstacles) + bytesOf(inputs.ground_mesh.points) +
+                 bytesOf(inputs.ground_mesh.cells) + bytesOf(inputs.ground_mesh.triangles) +
+                 bytesOf(analysis.stairs.cell_staircase);
   for (const SupportImage& support : analysis.planes.supports)
     bytes += bytesOf(support.kept);
   state.counters["MB"] = bytes / 1e6;

@@ -328,10 +328,6 @@ LineOrder linesSideBySide(const Fans& fans, const std::vector<bool>& keep,
   return order;
 }
 
-// Triangles whose corners lie on different ground planes join them only if the corners' heights
-// differ by at most this much [m] (half the smallest step a robot is told about).
-constexpr float kLargestSeamStep = 0.05F;
-
 // Elevation angles tell the beams of a fan apart on the ground only from this high above it [m]:
 // a file whose origin lies lower (on the ground) is seen from this high up its turntable axis. A
 // fan's plane holds that axis, so from any point on it above the ground the elevation still grows
@@ -339,6 +335,27 @@ constexpr float kLargestSeamStep = 0.05F;
 constexpr double kElevationHeight = 0.5;
 
 }  // namespace
+
+double EdgeLimit::joinedStep(const std::vector<std::int32_t>& ground_of, std::size_t a,
+                             std::size_t b, std::size_t c) const {
+  const std::int32_t g = ground_of[a];
+  if (ground_of[b] == g && ground_of[c] == g) return 0.0;
+  const float za = mapped[a].z(), zb = mapped[b].z(), zc = mapped[c].z();
+  const double step = std::max({za, zb, zc}) - std::min({za, zb, zc});
+  if (step <= kTouchingStep || plane_heights.empty()) return step + kJoinedStepUncertainty;
+  const Eigen::Vector2d centre =
+      ((mapped[a] + mapped[b] + mapped[c]) / 3.0F).head<2>().cast<double>();
+  double lowest = std::numeric_limits<double>::max(),
+         highest = std::numeric_limits<double>::lowest();
+  for (const std::int32_t plane : {ground_of[a], ground_of[b], ground_of[c]}) {
+    const Eigen::Vector3d& h = plane_heights[std::size_t(plane)];
+    const double z = h[0] + h[1] * centre.x() + h[2] * centre.y();
+    if (!std::isfinite(z)) return std::numeric_limits<double>::infinity();
+    lowest = std::min(lowest, z);
+    highest = std::max(highest, z);
+  }
+  return std::max(step, highest - lowest) + kJoinedStepUncertainty;
+}
 
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
@@ -356,12 +373,8 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
                  std::size_t c) {
     const std::int32_t g = ground_of[a];
     if (g < 0 || ground_of[b] < 0 || ground_of[c] < 0) return;
-    // Ground of two planes joins only where the two meet without a step: the outdoor ground is
-    // several planes that touch (a paving's slight bends), a stair's treads are not.
-    if (ground_of[b] != g || ground_of[c] != g) {
-      const float za = limit.mapped[a].z(), zb = limit.mapped[b].z(), zc = limit.mapped[c].z();
-      if (std::max({za, zb, zc}) - std::min({za, zb, zc}) > kLargestSeamStep) return;
-    }
+    // Ground of two planes joins only where the two meet with no more than the robot's step.
+    if (limit.joinedStep(ground_of, a, b, c) > limit.largest_seam_step) return;
     // The limit is never below the fixed one: only a longer edge needs the range's.
     const double longest =
         std::max({squaredDistance(a, b), squaredDistance(b, c), squaredDistance(a, c)});

@@ -25,6 +25,30 @@ struct EdgeLimit {
   const SensorGeometry& sensor;
   double fixed = 1.0;
   double scanner_height = 1.0;
+  // Triangles whose corners lie on different ground planes join them only where the step between
+  // them (joinedStep) is at most this much [m]: the robot's step. The outdoor ground is several
+  // planes that touch (a paving's slight bends), or meet at a low kerb whose face the beams passed
+  // over; a stair's treads are too high to join. The map keeps the step each joining triangle
+  // spans (MapInputs::seam_step), so a robot with a smaller step is still stopped there.
+  double largest_seam_step = 0.05;
+  // Per plane (index into the validated planes): its map height z = h0 + hx x + hy y as
+  // (h0, hx, hy); NaN for planes that are not ground. Empty: corners' heights only.
+  std::vector<Eigen::Vector3d> plane_heights = {};
+
+  // The step a triangle of ground points `a`, `b`, `c` (planes `ground_of`) spans between two
+  // ground planes, 0 when all three lie on one: its corners' height range where that is at most
+  // kTouchingStep (the planes touch there), above it also at least the planes' height difference
+  // at its centre (two tilted slabs meet with a step that their samples a few centimetres from the
+  // joint understate; the planes, fitted to many points, give it at the joint). Far from where two
+  // planes touch their extrapolated heights part, so they are not asked where the samples agree.
+  // Either is measured to about 2 cm (1 cm range noise either side; a plane fitted over paving
+  // slabs tilted against each other is a centimetre off at their joint), which is added: without
+  // it, slabs meeting 0.11 m apart were joined for a 0.1 m step (scripts/variant-sweep, the
+  // outdoor scene tilted 35 deg).
+  double joinedStep(const std::vector<std::int32_t>& ground_of, std::size_t a, std::size_t b,
+                    std::size_t c) const;
+  static constexpr double kTouchingStep = 0.05;
+  static constexpr double kJoinedStepUncertainty = 0.02;
   double maxEdgeSquared(std::size_t point) const {
     const double range = double(mapped[point].head<2>().norm());
     const double spacing = expectedGroundSpacing(sensor, range, scanner_height);

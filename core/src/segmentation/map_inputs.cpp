@@ -128,12 +128,32 @@ std::vector<Eigen::Vector2i> cellsOfPoints(const Scan& scan,
 // A ground cell's height is the local ground's: its own points' lowest, or the triangle over it,
 // not its plane's (an outdoor plane is only an approximation of the road far from its centre).
 // The first to mark a cell keeps it.
-void markGround(MapInputs& inputs, int column, int row, int plane, float height) {
-  if (!inputs.grid.inside(column, row)) return;
+// Per plane, its map height z = h0 + hx x + hy y as (h0, hx, hy) when it is ground, else NaN
+// (EdgeLimit::plane_heights). A plane n . p = d in the scanner frame is (R n) . m = d + (R n) . t
+// in the map frame m = R p + t.
+std::vector<Eigen::Vector3d> groundPlaneHeights(const ScanAnalysis& analysis) {
+  const std::vector<Plane>& planes = analysis.planes.planes;
+  std::vector<Eigen::Vector3d> heights(planes.size(), Eigen::Vector3d::Constant(std::nan("")));
+  const Eigen::Matrix3d rotation = analysis.map_from_scanner.linear();
+  const Eigen::Vector3d translation = analysis.map_from_scanner.translation();
+  for (const int g : analysis.ground_planes) {
+    const Plane& plane = planes[std::size_t(g)];
+    const Eigen::Vector3d n = rotation * plane.normal;
+    if (std::abs(n.z()) < 1e-6) continue;
+    const double d = plane.offset + n.dot(translation);
+    heights[std::size_t(g)] = {d / n.z(), -n.x() / n.z(), -n.y() / n.z()};
+  }
+  return heights;
+}
+
+// Marks an unmarked cell as ground of `plane` at `height`; false when it was marked already.
+bool markGround(MapInputs& inputs, int column, int row, int plane, float height) {
+  if (!inputs.grid.inside(column, row)) return false;
   const std::size_t cell = inputs.grid.index(column, row);
-  if (inputs.ground_plane[cell] >= 0) return;
+  if (inputs.ground_plane[cell] >= 0) return false;
   inputs.ground_plane[cell] = std::int16_t(plane);
   inputs.ground_height[cell] = height;
+  return true;
 }
 
 // Cells holding ground points, at the lowest of the cell's ground points of its plane: the
@@ -191,8 +211,9 @@ GroundMesh meshOf(std::vector<std::array<std::uint32_t, 3>> triangles,
 
 // The cells the ground triangles cover, at the triangle's height over each cell centre.
 void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& ground_of,
-                       const std::vector<Eigen::Vector3f>& mapped,
-                       const std::vector<Eigen::Vector2i>& cell_of, int threads) {
+                       const detail::EdgeLimit& limit, const std::vector<Eigen::Vector2i>& cell_of,
+                       int threads) {
+  const std::vector<Eigen::Vector3f>& mapped = limit.mapped;
   const MapGrid& grid = inputs.grid;
   const GroundMesh& mesh = inputs.ground_mesh;
   auto pointsOf = [&mesh](std::size_t t) {
@@ -237,6 +258,10 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
           // The triangle's height over the map: z = h0 + hx x + hy y through its corners, from
           // its normal (closed form: a QR solve per triangle was a tenth of a multi-beam frame's
           // time). A triangle flat in x-y covers no cell centre; it keeps its first corner's z.
+          // A triangle joining two ground planes spans their step over the cells it fills.
+          const float joined_step =
+              float(limit.joinedStep(ground_of, triangle[0], triangle[1], triangle[2]));
+          const bool joins = joined_step > 0.0F;
           const Eigen::Vector3d p0 = mapped[triangle[0]].cast<double>();
           const Eigen::Vector3d normal = (mapped[triangle[1]].cast<double>() - p0)
                                              .cross(mapped[triangle[2]].cast<double>() - p0);
@@ -265,8 +290,10 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
             const int last = int(std::floor((x_max - grid.origin.x()) / grid.resolution - 0.5));
             for (int column = first; column <= last; ++column) {
               const Eigen::Vector2d centre = grid.centre(column, row);
-              markGround(inputs, column, row, ground_of[triangle[0]],
-                         float(h[0] + h[1] * centre.x() + h[2] * centre.y()));
+              if (markGround(inputs, column, row, ground_of[triangle[0]],
+                             float(h[0] + h[1] * centre.x() + h[2] * centre.y())) &&
+                  joins)
+                inputs.seam_step[grid.index(column, row)] = joined_step;
             }
           }
         }
@@ -449,7 +476,11 @@ std::vector<GroundContact> groundContacts(const MapInputs& inputs) {
         const std::size_t there = grid.index(column + dc, row + dr);
         const int b = inputs.ground_plane[there];
         if (b < 0 || b == a) continue;
-        const float step = std::abs(inputs.ground_height[here] - inputs.ground_height[there]);
+        // Cells a triangle joining two planes fills lie on a ramp between them: the step they
+        // stand for is the one the triangle spans.
+        const float step =
+            std::max({std::abs(inputs.ground_height[here] - inputs.ground_height[there]),
+                      inputs.seam_step[here], inputs.seam_step[there]});
         const auto key = std::minmax(a, b);
         const auto it = steps.find(key);
         if (it == steps.end() || step < it->second) steps[key] = step;
@@ -477,14 +508,19 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   inputs.grid = gridOver(mapped.ground_box, analysis.stairs, params.map.resolution);
   inputs.ground_plane.assign(inputs.grid.cells(), -1);
   inputs.ground_height.assign(inputs.grid.cells(), 0.0F);
+  inputs.seam_step.assign(inputs.grid.cells(), 0.0F);
   const std::vector<Eigen::Vector2i> cell_of =
       cellsOfPoints(scan, mapped.positions, inputs.grid, threads);
 
   // Ground: the cells holding ground points, then those the ground triangles cover, then single
   // holes; the first to mark a cell sets its height.
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
-  const detail::EdgeLimit limit{mapped.positions, analysis.sensor, params.map.max_triangle_edge,
-                                std::max(detail::kLowestScannerHeight, scanner_z)};
+  const detail::EdgeLimit limit{mapped.positions,
+                                analysis.sensor,
+                                params.map.max_triangle_edge,
+                                std::max(detail::kLowestScannerHeight, scanner_z),
+                                params.robot.max_step,
+                                groundPlaneHeights(analysis)};
   // The points measureObstacles will keep, whose partners across the sweep are wanted.
   std::vector<std::uint32_t> obstacle_points;
   for (std::size_t i = 0; i < scan.size(); ++i)
@@ -494,7 +530,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   inputs.ground_mesh = meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor,
                                                       scanner_z, threads, &partners),
                               cell_of, inputs.grid, threads);
-  markTriangleCells(inputs, ground_of, mapped.positions, cell_of, threads);
+  markTriangleCells(inputs, ground_of, limit, cell_of, threads);
   markSingleHoles(inputs);
 
   inputs.ground_spacing = groundSpacing(inputs, analysis);

@@ -325,6 +325,11 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t here = grid.index(column, row);
       if (classes.state[here] != CellState::kGround) continue;
+      if (!inputs.seam_step.empty() && inputs.seam_step[here] > robot.max_step) {
+        classes.state[here] = CellState::kBlocked;
+        classes.reason[here] = CellReason::kTooSteep;
+        continue;
+      }
       for (const auto& [dc, dr] :
            {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}}) {
         if (!grid.inside(column + dc, row + dr)) continue;

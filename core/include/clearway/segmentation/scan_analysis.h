@@ -89,6 +89,10 @@ struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
   std::vector<float> ground_height;        // per cell: that plane's map z at the cell centre
+  // Per cell: the step [m] between two ground planes that a ground triangle joining them spans
+  // over the cell (a low kerb seen from above, its face unseen), 0 elsewhere. The traversability
+  // check blocks the cell for a robot whose step is smaller.
+  std::vector<float> seam_step;
   // Per ground cell: the widest obstacle that could stand between the sensor's samples there
   // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
   // robot's step (docs/ALGORITHM.md, "Sparse scans never lie").

@@ -1,0 +1,89 @@
+// Two ground planes that meet at a low kerb seen from above: the kerb's face turns away from the
+// scanner, so between the last return on the upper floor and the first on the lower one nothing
+// was measured. The ground triangles join the two floors there when the kerb is no higher than
+// the robot's step, and the map keeps that step, so a robot with a smaller step is still stopped
+// (docs/ALGORITHM.md, "Ground planes that meet at a kerb").
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "clearway/pipeline.h"
+#include "engine_fixtures.h"
+
+namespace clearway {
+namespace {
+
+constexpr double kKerbX = 2.0;  // where the upper floor ends [m]
+
+// A RoSi 1 m above an upper floor that drops by `drop` at x = kKerbX to a lower floor.
+test::SimulatedRun kerbScene(double drop, const SegmentationParams& params = {}) {
+  sim::Scene scene;
+  scene.name = "kerb";
+  sim::Primitive upper;
+  upper.name = "upper_floor";
+  upper.point_class = PointClass::kGround;
+  upper.center = {kKerbX - 4.0, 0.0, -0.5};
+  upper.size = {8.0, 12.0, 1.0};
+  scene.primitives.push_back(upper);
+  sim::Primitive lower = upper;
+  lower.name = "lower_floor";
+  lower.center = {kKerbX + 4.0, 0.0, -0.5 - drop};
+  scene.primitives.push_back(lower);
+  sim::SensorModel sensor;
+  sensor.lines = 200;
+  sensor.max_range = 8.0;
+  sim::ScannerPlacement placement;
+  placement.position = {0.0, 0.0, 1.0};
+  placement.axis = {1.0, 0.0, 0.0};
+  test::SimulatedRun run;
+  run.simulated = sim::simulateRosi(scene, sensor, placement);
+  run.result = runPipeline(run.simulated.scan, params);
+  return run;
+}
+
+bool shownTraversable(CellLabel label) {
+  return label == CellLabel::kTraversable || label == CellLabel::kCareful;
+}
+
+TEST(GroundSeam, AKerbLowerThanTheStepIsCrossed) {
+  const double drop = 0.07;  // under the default robot's 0.1 m step, over 0.05 m
+  const test::SimulatedRun run = kerbScene(drop);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  // The strip along the kerb that no beam reached is ground: without the join it was unobserved
+  // and the robot's box could stand nowhere near it ("too narrow" on both sides).
+  for (const double y : {-1.0, 0.0, 1.0}) {
+    SCOPED_TRACE(y);
+    EXPECT_TRUE(shownTraversable(test::labelAtWorld(run, {kKerbX + 0.03, y, -drop / 2})));
+    EXPECT_TRUE(shownTraversable(test::labelAtWorld(run, {kKerbX - 0.3, y, 0.0})));
+    EXPECT_TRUE(shownTraversable(test::labelAtWorld(run, {kKerbX + 0.3, y, -drop})));
+  }
+  EXPECT_TRUE(test::connectedInMap(run, {1.0, 0.0, 0.0}, {4.0, 0.0, -drop}));
+}
+
+TEST(GroundSeam, AKerbHigherThanTheStepIsNotCrossed) {
+  const double drop = 0.15;
+  const test::SimulatedRun run = kerbScene(drop);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  EXPECT_FALSE(test::connectedInMap(run, {1.0, 0.0, 0.0}, {4.0, 0.0, -drop}));
+  EXPECT_FALSE(shownTraversable(test::labelAtWorld(run, {kKerbX + 0.03, 0.0, -drop / 2})));
+}
+
+TEST(GroundSeam, ARobotWithASmallerStepIsStoppedWhereTheJoinWasMade) {
+  const double drop = 0.07;
+  test::SimulatedRun run = kerbScene(drop);
+  ASSERT_TRUE(test::connectedInMap(run, {1.0, 0.0, 0.0}, {4.0, 0.0, -drop}));
+  // The console's robot re-run keeps the analysis, joins and all: the map must still say no.
+  SegmentationParams smaller_step;
+  smaller_step.robot.max_step = 0.05;
+  run.result = rerunForRobot(run.simulated.scan, run.result.analysis, smaller_step);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  EXPECT_FALSE(test::connectedInMap(run, {1.0, 0.0, 0.0}, {4.0, 0.0, -drop}));
+  bool blocked_across = false;
+  for (double x = kKerbX - 0.1; x < kKerbX + 0.2; x += 0.01)
+    blocked_across |= test::labelAtWorld(run, {x, 0.0, -drop / 2}) == CellLabel::kImpassable;
+  EXPECT_TRUE(blocked_across) << "no impassable cell across the kerb for a 0.05 m step";
+}
+
+}  // namespace
+}  // namespace clearway
