@@ -125,9 +125,6 @@ std::vector<Eigen::Vector2i> cellsOfPoints(const Scan& scan,
   return cell_of;
 }
 
-// A ground cell's height is the local ground's: its own points' lowest, or the triangle over it,
-// not its plane's (an outdoor plane is only an approximation of the road far from its centre).
-// The first to mark a cell keeps it.
 // Per plane, its map height z = h0 + hx x + hy y as (h0, hx, hy) when it is ground, else NaN
 // (EdgeLimit::plane_heights). A plane n . p = d in the scanner frame is (R n) . m = d + (R n) . t
 // in the map frame m = R p + t.
@@ -146,7 +143,9 @@ std::vector<Eigen::Vector3d> groundPlaneHeights(const ScanAnalysis& analysis) {
   return heights;
 }
 
-// Marks an unmarked cell as ground of `plane` at `height`; false when it was marked already.
+// A ground cell's height is the local ground's: its own points' lowest, or the triangle over it,
+// not its plane's (an outdoor plane is only an approximation of the road far from its centre).
+// The first to mark a cell keeps it: false when it was marked already.
 bool markGround(MapInputs& inputs, int column, int row, int plane, float height) {
   if (!inputs.grid.inside(column, row)) return false;
   const std::size_t cell = inputs.grid.index(column, row);
