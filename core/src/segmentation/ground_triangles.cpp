@@ -339,10 +339,13 @@ constexpr double kElevationHeight = 0.5;
 double EdgeLimit::joinedStep(const std::vector<std::int32_t>& ground_of, std::size_t a,
                              std::size_t b, std::size_t c) const {
   const std::int32_t g = ground_of[a];
-  if (ground_of[b] == g && ground_of[c] == g) return 0.0;
+  const bool one_plane = ground_of[b] == g && ground_of[c] == g;
+  const bool off_plane = !continued.empty() && (continued[a] || continued[b] || continued[c]);
+  if (one_plane && !off_plane) return 0.0;
   const float za = mapped[a].z(), zb = mapped[b].z(), zc = mapped[c].z();
   const double step = std::max({za, zb, zc}) - std::min({za, zb, zc});
-  if (step <= kTouchingStep || plane_heights.empty()) return step + kJoinedStepUncertainty;
+  if (step <= kTouchingStep || plane_heights.empty() || one_plane)
+    return step + kJoinedStepUncertainty;
   const Eigen::Vector2d centre =
       ((mapped[a] + mapped[b] + mapped[c]) / 3.0F).head<2>().cast<double>();
   double lowest = std::numeric_limits<double>::max(),

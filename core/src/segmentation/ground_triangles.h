@@ -34,12 +34,16 @@ struct EdgeLimit {
   // Per plane (index into the validated planes): its map height z = h0 + hx x + hy y as
   // (h0, hx, hy); NaN for planes that are not ground. Empty: corners' heights only.
   std::vector<Eigen::Vector3d> plane_heights = {};
+  // Per point, true where it is ground no plane took in (continueGround): it may lie up to a step
+  // off its plane, so a triangle with such a corner joins as two planes do. Empty: none.
+  std::vector<bool> continued = {};
 
   // The step a triangle of ground points `a`, `b`, `c` (planes `ground_of`) spans between two
   // ground planes, 0 when all three lie on one: its corners' height range where that is at most
   // kTouchingStep (the planes touch there), above it also at least the planes' height difference
   // at its centre (two tilted slabs meet with a step that their samples a few centimetres from the
-  // joint understate; the planes, fitted to many points, give it at the joint). Far from where two
+  // joint understate; the planes, fitted to many points, give it at the joint); a triangle with a
+  // corner that continues its plane (`continued`) spans its corners' range. Far from where two
   // planes touch their extrapolated heights part, so they are not asked where the samples agree.
   // Either is measured to about 2 cm (1 cm range noise either side; a plane fitted over paving
   // slabs tilted against each other is a centimetre off at their joint), which is added: without

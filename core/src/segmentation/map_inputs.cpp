@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "clearway/segmentation/scan_analysis.h"
+#include "ground_continuation.h"
 #include "ground_triangles.h"
 #include "parallel.h"
 
@@ -141,6 +142,21 @@ std::vector<Eigen::Vector3d> groundPlaneHeights(const ScanAnalysis& analysis) {
     heights[std::size_t(g)] = {d / n.z(), -n.x() / n.z(), -n.y() / n.z()};
   }
   return heights;
+}
+
+// How ground that no plane took in may continue a ground plane: flat where nothing in a cell
+// rises above ground noise (obstacle_min_height) within the robot's band; from one return to the
+// next no steeper than a drivable slope (plus 2 cm: 1 cm range noise on either) and never a rise
+// that would be an obstacle's return itself; at most a robot's step off the plane, so that
+// whatever it reaches is a surface the robot could step onto from the plane anyway.
+detail::GroundContinuationLimits continuationLimits(const SegmentationParams& params) {
+  detail::GroundContinuationLimits limits;
+  limits.flatness = float(params.map.obstacle_min_height);
+  limits.clear_height = float(params.robot.height);
+  limits.noise = 0.02F;
+  limits.slope = float(std::tan(params.ground.max_slope_deg * std::numbers::pi / 180.0));
+  limits.off_plane = float(params.robot.max_step);
+  return limits;
 }
 
 // A ground cell's height is the local ground's: its own points' lowest, or the triangle over it,
@@ -501,7 +517,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
   const double scanner_z = map_from_scanner.translation().z();
 
-  const std::vector<std::int32_t> ground_of = groundOfPoints(scan, analysis);
+  std::vector<std::int32_t> ground_of = groundOfPoints(scan, analysis);
   const MappedPoints mapped =
       pointsInMapFrame(scan, map_from_scanner, ground_of, params.map.max_extent, threads);
   inputs.grid = gridOver(mapped.ground_box, analysis.stairs, params.map.resolution);
@@ -511,15 +527,24 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   const std::vector<Eigen::Vector2i> cell_of =
       cellsOfPoints(scan, mapped.positions, inputs.grid, threads);
 
+  detail::EdgeLimit limit{mapped.positions,
+                          analysis.sensor,
+                          params.map.max_triangle_edge,
+                          std::max(detail::kLowestScannerHeight, scanner_z),
+                          params.robot.max_step,
+                          groundPlaneHeights(analysis)};
+  // Ground no plane took in, continued from the planes' along the lines, as far apart as the
+  // ground triangles may join returns.
+  detail::ContinuedGround continued = detail::continueGround(
+      std::move(ground_of), scan, analysis.planes.point_plane, mapped.positions, cell_of,
+      inputs.grid, limit.plane_heights, continuationLimits(params),
+      [&limit](std::size_t point) { return limit.maxEdgeSquared(point); });
+  ground_of = std::move(continued.ground_of);
+  limit.continued = std::move(continued.continued);
+
   // Ground: the cells holding ground points, then those the ground triangles cover, then single
   // holes; the first to mark a cell sets its height.
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
-  const detail::EdgeLimit limit{mapped.positions,
-                                analysis.sensor,
-                                params.map.max_triangle_edge,
-                                std::max(detail::kLowestScannerHeight, scanner_z),
-                                params.robot.max_step,
-                                groundPlaneHeights(analysis)};
   // The points measureObstacles will keep, whose partners across the sweep are wanted.
   std::vector<std::uint32_t> obstacle_points;
   for (std::size_t i = 0; i < scan.size(); ++i)
