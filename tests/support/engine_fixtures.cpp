@@ -1,6 +1,10 @@
 #include "engine_fixtures.h"
 
+#include "clearway/io/scan_io.h"
+
+#include <unistd.h>
 #include <Eigen/Geometry>
+#include <filesystem>
 #include <numbers>
 #include <queue>
 
@@ -35,6 +39,43 @@ SimulatedRun simulateAndSegment(const std::string& scene_name, int lines,
   run.simulated = sim::simulateRosi(scene, sensor, placement);
   run.result = runPipeline(run.simulated.scan, params);
   return run;
+}
+
+SimulatedRun simulateFromOrigin(const sim::Scene& scene, const SegmentationParams& params) {
+  sim::SensorModel sensor;
+  sensor.lines = 200;
+  sensor.max_range = 8.0;
+  sim::ScannerPlacement placement;
+  placement.position = {0.0, 0.0, 1.0};
+  placement.axis = {1.0, 0.0, 0.0};
+  SimulatedRun run;
+  run.simulated = sim::simulateRosi(scene, sensor, placement);
+  run.result = runPipeline(run.simulated.scan, params);
+  return run;
+}
+
+SimulatedRun simulateSavedAndSegment(const sim::Scene& scene, const sim::SensorModel& sensor,
+                                     const sim::ScannerPlacement& placement,
+                                     const SegmentationParams& params) {
+  SimulatedRun run;
+  run.simulated = sim::simulateRosi(scene, sensor, placement);
+  const std::filesystem::path file = std::filesystem::temp_directory_path() /
+                                     ("clearway_fixture_" + std::to_string(::getpid()) + ".pcd");
+  saveRosiPcd(run.simulated.scan, file);
+  run.simulated.scan = loadScan(file);
+  std::filesystem::remove(file);
+  run.result = runPipeline(run.simulated.scan, params);
+  return run;
+}
+
+eval::Evaluation evaluateRun(const SimulatedRun& run, const SegmentationParams& params) {
+  eval::SegmentationResult result;
+  result.robot = {params.robot.width, params.robot.length, params.robot.height,
+                  params.robot.max_step};
+  result.map = eval::resultMapOf(run.result.map.grid, run.result.map.labels,
+                                 run.result.analysis->map_from_scanner);
+  result.has_map = true;
+  return eval::evaluate(run.simulated.truth, result);
 }
 
 CellLabel labelAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world) {

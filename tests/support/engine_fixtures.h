@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "clearway/eval/evaluation.h"
 #include "clearway/pipeline.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/rosi_simulator.h"
@@ -23,6 +24,20 @@ SimulatedRun simulateAndSegment(const std::string& scene, int lines,
                                 const SegmentationParams& params = {}, double tilt_deg = 0.0,
                                 double roll_deg = 0.0,
                                 const sim::SceneParameters& scene_parameters = {});
+
+// Simulates `scene` from a RoSi 1 m above the origin, its turntable axis along world x, 200 lines
+// out to 8 m (the hand-built scenes' scanner), and runs the pipeline with `params`.
+SimulatedRun simulateFromOrigin(const sim::Scene& scene, const SegmentationParams& params = {});
+
+// Simulates `scene` and runs the pipeline on the scan as the console would have it: saved as a
+// PCD (single-precision coordinates) and loaded again, as `clearway-cli simulate` then `segment`.
+SimulatedRun simulateSavedAndSegment(const sim::Scene& scene, const sim::SensorModel& sensor,
+                                     const sim::ScannerPlacement& placement,
+                                     const SegmentationParams& params = {});
+
+// The run's map scored against the simulator's truth (`clearway-cli eval`'s measures) for the
+// robot of `params`.
+eval::Evaluation evaluateRun(const SimulatedRun& run, const SegmentationParams& params = {});
 
 // The map label under a world position of a simulated run (kUnknown outside the map).
 CellLabel labelAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world);

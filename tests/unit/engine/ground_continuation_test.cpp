@@ -6,12 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <numbers>
 #include <string>
 
 #include "clearway/eval/evaluation.h"
-#include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "engine_fixtures.h"
@@ -60,16 +58,7 @@ test::SimulatedRun domeScene(double peak, double box_height = 0.0) {
   if (box_height > 0)
     scene.primitives.push_back(
         box("box", PointClass::kObstacle, {1.5, 1.0, 0.0}, {2.0, 1.5, box_height}));
-  sim::SensorModel sensor;
-  sensor.lines = 200;
-  sensor.max_range = 8.0;
-  sim::ScannerPlacement placement;
-  placement.position = {0.0, 0.0, 1.0};
-  placement.axis = {1.0, 0.0, 0.0};
-  test::SimulatedRun run;
-  run.simulated = sim::simulateRosi(scene, sensor, placement);
-  run.result = runPipeline(run.simulated.scan, SegmentationParams{});
-  return run;
+  return test::simulateFromOrigin(scene, SegmentationParams{});
 }
 
 bool shownTraversable(CellLabel label) {
@@ -117,24 +106,11 @@ TEST(GroundContinuation, AKerbTopDoesNotBringTheLevelAboveWithinAStep) {
   sim::ScannerPlacement placement = sim::defaultPlacement(scene);
   placement.axis =
       Eigen::AngleAxisd(12.0 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) * placement.axis;
-  const sim::SimulatedScan simulated = sim::simulateRosi(scene, sensor, placement);
-  // As the console would have it: saved (single-precision coordinates), then loaded.
-  const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / "clearway_continuation_kerb.pcd";
-  saveRosiPcd(simulated.scan, file);
-  const Scan scan = loadScan(file);
-  std::filesystem::remove(file);
   SegmentationParams params;
   params.robot.height = 1.2;
-  const PipelineResult pipeline = runPipeline(scan, params);
-  ASSERT_TRUE(pipeline.trusted()) << pipeline.reason;
-  eval::SegmentationResult result;
-  result.robot = {params.robot.width, params.robot.length, params.robot.height,
-                  params.robot.max_step};
-  result.map = eval::resultMapOf(pipeline.map.grid, pipeline.map.labels,
-                                 pipeline.analysis->map_from_scanner);
-  result.has_map = true;
-  const eval::Evaluation e = eval::evaluate(simulated.truth, result);
+  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  const eval::Evaluation e = test::evaluateRun(run, params);
   EXPECT_GT(e.map.traversable_cells, 10000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }

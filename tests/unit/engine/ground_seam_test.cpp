@@ -30,16 +30,7 @@ test::SimulatedRun kerbScene(double drop, const SegmentationParams& params = {})
   lower.name = "lower_floor";
   lower.center = {kKerbX + 4.0, 0.0, -0.5 - drop};
   scene.primitives.push_back(lower);
-  sim::SensorModel sensor;
-  sensor.lines = 200;
-  sensor.max_range = 8.0;
-  sim::ScannerPlacement placement;
-  placement.position = {0.0, 0.0, 1.0};
-  placement.axis = {1.0, 0.0, 0.0};
-  test::SimulatedRun run;
-  run.simulated = sim::simulateRosi(scene, sensor, placement);
-  run.result = runPipeline(run.simulated.scan, params);
-  return run;
+  return test::simulateFromOrigin(scene, params);
 }
 
 bool shownTraversable(CellLabel label) {
@@ -83,6 +74,26 @@ TEST(GroundSeam, ARobotWithASmallerStepIsStoppedWhereTheJoinWasMade) {
   for (double x = kKerbX - 0.1; x < kKerbX + 0.2; x += 0.01)
     blocked_across |= test::labelAtWorld(run, {x, 0.0, -drop / 2}) == CellLabel::kImpassable;
   EXPECT_TRUE(blocked_across) << "no impassable cell across the kerb for a 0.05 m step";
+}
+
+TEST(GroundSeam, AKerbSeenFaceOnIsNotSplitByTheUpperLevelsBand) {
+  // The outdoor scene's 0.15 m kerb from 3.3 m before it (beyond the pipe bridge), its face
+  // turned to the scanner. The upper level's support band takes in the top 5 cm of the face, so
+  // the cells at its edge stood about 0.1 m up: measured cell to cell the 0.15 m step split in
+  // two that a 0.1 m robot takes, the upper level was reached, and the robot's box stood over the
+  // kerb's edge (332 false cells).
+  const sim::Scene scene = *sim::builtinScene("outdoor");
+  sim::SensorModel sensor;
+  sensor.lines = 150;
+  sensor.seed = 13;
+  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
+  placement.position = {6.5, 0.0, 1.2};
+  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  const eval::Evaluation e = test::evaluateRun(run);
+  EXPECT_GT(e.map.traversable_cells, 5000U);
+  EXPECT_EQ(e.map.false_traversable_cells, 0U);
+  EXPECT_FALSE(test::connectedInMap(run, {8.5, 0.0, 0.0}, {12.0, 0.0, 0.15}));
 }
 
 }  // namespace

@@ -26,13 +26,7 @@ class SparseScans : public ::testing::TestWithParam<SparseCase> {};
 TEST_P(SparseScans, NoFalseTraversableCell) {
   const SparseCase c = GetParam();
   const auto run = test::simulateAndSegment(c.scene, c.lines, SegmentationParams{}, c.tilt);
-  eval::SegmentationResult result;
-  const RobotParams robot;
-  result.robot = {robot.width, robot.length, robot.height, robot.max_step};
-  result.map = eval::resultMapOf(run.result.map.grid, run.result.map.labels,
-                                 run.result.analysis->map_from_scanner);
-  result.has_map = true;
-  const eval::Evaluation e = eval::evaluate(run.simulated.truth, result);
+  const eval::Evaluation e = test::evaluateRun(run);
   EXPECT_LE(e.map.false_traversable_cells, c.allowed_false)
       << c.scene << " at " << c.lines << " lines, tilt " << c.tilt << ": "
       << e.map.traversable_cells << " traversable cells";
