@@ -1,5 +1,6 @@
 #include "ground_continuation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -27,58 +28,76 @@ std::vector<std::uint32_t> cellIndices(const Scan& scan,
 // noise: ground is level there. The lower returns on a low box's face lie centimetres from its
 // top, and are that box; the top of a kerb lies centimetres from the ground at its foot, and
 // taken in as ground it would bring the level above it within a step of the one below.
-std::vector<std::uint8_t> flatCells(const std::vector<std::int32_t>& ground_of,
-                                    const std::vector<std::int32_t>& point_plane,
-                                    const std::vector<Eigen::Vector3f>& mapped,
-                                    const std::vector<std::uint32_t>& cell_index,
-                                    const MapGrid& grid, const GroundContinuationLimits& limits) {
-  // Per cell: its lowest return (any), its lowest return in no ground plane, and the highest
-  // return in the robot's band over the lowest.
-  std::vector<float> lowest(grid.cells(), kNone), lowest_free(grid.cells(), kNone);
-  std::vector<float> highest(grid.cells(), -kNone);
-  std::vector<std::uint8_t> flat(grid.cells(), 0);
-  for (std::size_t i = 0; i < cell_index.size(); ++i) {
-    const std::uint32_t cell = cell_index[i];
-    if (cell == kOutside) continue;
-    const float z = mapped[i].z();
-    lowest[cell] = std::min(lowest[cell], z);
-    if (ground_of[i] < 0)
-      lowest_free[cell] = std::min(lowest_free[cell], z);
-    else
-      flat[cell] = 2;  // holds ground: never a candidate
-  }
-  for (std::size_t i = 0; i < cell_index.size(); ++i) {
-    const std::uint32_t cell = cell_index[i];
-    if (cell == kOutside) continue;
-    const float z = mapped[i].z(), above = z - lowest[cell];
-    if (above < limits.clear_height) highest[cell] = std::max(highest[cell], z);
-    if (ground_of[i] < 0 && point_plane[i] >= 0 && above <= limits.flatness) flat[cell] = 2;
-  }
-  // The cells within clear_reach of anywhere in a cell: one more than the reach in cells, as the
-  // returns lie anywhere in theirs.
-  const int reach = int(std::ceil(limits.clear_reach / grid.resolution - 1e-6)) + 1;
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      if (flat[cell] == 2 || lowest_free[cell] == kNone) {
-        flat[cell] = 0;
-        continue;
-      }
-      const float floor = lowest_free[cell];
-      bool clear = true;
-      for (int r = std::max(0, row - reach); clear && r <= std::min(grid.height - 1, row + reach);
-           ++r)
-        for (int c = std::max(0, column - reach);
-             clear && c <= std::min(grid.width - 1, column + reach); ++c) {
-          const std::size_t near = grid.index(c, r);
-          clear = !(highest[near] > floor + limits.flatness &&
-                    highest[near] < floor + limits.clear_height) &&
-                  !(lowest[near] < floor - limits.flatness);
-        }
-      flat[cell] = clear;
+class FlatCells {
+ public:
+  FlatCells(const std::vector<std::int32_t>& ground_of,
+            const std::vector<std::int32_t>& point_plane,
+            const std::vector<Eigen::Vector3f>& mapped,
+            const std::vector<std::uint32_t>& cell_index, const MapGrid& grid,
+            const GroundContinuationLimits& limits)
+      : grid_(grid),
+        limits_(limits),
+        lowest_(grid.cells(), kNone),
+        lowest_free_(grid.cells(), kNone),
+        highest_(grid.cells(), -kNone),
+        state_(grid.cells(), kUnknown),
+        // The cells within clear_reach of anywhere in a cell: one more than the reach in cells,
+        // as the returns lie anywhere in theirs.
+        reach_(int(std::ceil(limits.clear_reach / grid.resolution - 1e-6)) + 1) {
+    // Per cell: its lowest return (any), its lowest return in no ground plane, and the highest
+    // return in the robot's band over the lowest.
+    for (std::size_t i = 0; i < cell_index.size(); ++i) {
+      const std::uint32_t cell = cell_index[i];
+      if (cell == kOutside) continue;
+      const float z = mapped[i].z();
+      lowest_[cell] = std::min(lowest_[cell], z);
+      if (ground_of[i] < 0)
+        lowest_free_[cell] = std::min(lowest_free_[cell], z);
+      else
+        state_[cell] = kNotFlat;  // holds ground: never a candidate
     }
-  return flat;
-}
+    for (std::size_t i = 0; i < cell_index.size(); ++i) {
+      const std::uint32_t cell = cell_index[i];
+      if (cell == kOutside) continue;
+      const float z = mapped[i].z(), above = z - lowest_[cell];
+      if (above < limits.clear_height) highest_[cell] = std::max(highest_[cell], z);
+      if (ground_of[i] < 0 && point_plane[i] >= 0 && above <= limits.flatness)
+        state_[cell] = kNotFlat;
+    }
+  }
+
+  // Asked only of the cells the walk reaches (most returns are in planes and never are).
+  bool flat(std::uint32_t cell) {
+    if (state_[cell] == kUnknown) state_[cell] = level(cell) ? kFlat : kNotFlat;
+    return state_[cell] == kFlat;
+  }
+
+ private:
+  static constexpr std::uint8_t kUnknown = 0, kFlat = 1, kNotFlat = 2;
+
+  bool level(std::uint32_t cell) const {
+    const float floor = lowest_free_[cell];
+    if (floor == kNone) return false;
+    const int row = int(cell / std::uint32_t(grid_.width)),
+              column = int(cell % std::uint32_t(grid_.width));
+    for (int r = std::max(0, row - reach_); r <= std::min(grid_.height - 1, row + reach_); ++r)
+      for (int c = std::max(0, column - reach_); c <= std::min(grid_.width - 1, column + reach_);
+           ++c) {
+        const std::size_t near = grid_.index(c, r);
+        if ((highest_[near] > floor + limits_.flatness &&
+             highest_[near] < floor + limits_.clear_height) ||
+            lowest_[near] < floor - limits_.flatness)
+          return false;
+      }
+    return true;
+  }
+
+  const MapGrid& grid_;
+  const GroundContinuationLimits& limits_;
+  std::vector<float> lowest_, lowest_free_, highest_;
+  std::vector<std::uint8_t> state_;
+  int reach_;
+};
 
 }  // namespace
 
@@ -90,8 +109,7 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
                                const GroundContinuationLimits& limits,
                                const std::function<double(std::size_t)>& max_gap_squared) {
   const std::vector<std::uint32_t> cell_index = cellIndices(scan, cell_of, grid);
-  const std::vector<std::uint8_t> flat =
-      flatCells(ground_of, point_plane, mapped, cell_index, grid, limits);
+  FlatCells cells(ground_of, point_plane, mapped, cell_index, grid, limits);
   auto planeZ = [&](std::int32_t plane, const Eigen::Vector3f& p) {
     if (plane < 0 || std::size_t(plane) >= plane_heights.size())
       return std::numeric_limits<double>::quiet_NaN();
@@ -100,18 +118,19 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
   };
   // Whether return `i` continues the ground from the ground return `from` before it on its line.
   auto continues = [&](std::size_t i, std::size_t from) {
-    if (point_plane[i] >= 0 || !flat[cell_index[i]]) return false;
+    if (point_plane[i] >= 0 || !cells.flat(cell_index[i])) return false;
     const Eigen::Vector3f& p = mapped[i];
     const Eigen::Vector3f& q = mapped[from];
-    const double gap_squared = double((p.head<2>() - q.head<2>()).squaredNorm());
-    if (gap_squared > max_gap_squared(i)) return false;
     const double rise = std::abs(double(p.z() - q.z()));
-    if (rise > limits.flatness || rise > limits.noise + limits.slope * std::sqrt(gap_squared))
-      return false;
+    if (rise > limits.flatness) return false;
+    const double gap_squared = double((p.head<2>() - q.head<2>()).squaredNorm());
+    if (rise > limits.noise + limits.slope * std::sqrt(gap_squared)) return false;
+    if (gap_squared > max_gap_squared(i)) return false;
     const double plane_z = planeZ(ground_of[from], p);
     return std::isfinite(plane_z) && std::abs(double(p.z()) - plane_z) <= limits.off_plane;
   };
   std::vector<bool> continued(ground_of.size(), false);
+  std::size_t taken = 0;
   // Both ways along each line: a stretch between two planes is reached from either end.
   auto walk = [&](std::size_t first, std::size_t end, std::ptrdiff_t direction) {
     std::size_t last = std::numeric_limits<std::size_t>::max();
@@ -123,6 +142,7 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
       } else if (last != std::numeric_limits<std::size_t>::max() && continues(i, last)) {
         ground_of[i] = ground_of[last];
         continued[i] = true;
+        ++taken;
         last = i;
       }
     }
@@ -131,6 +151,9 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
     walk(line.first, line.first + line.count, +1);
     walk(line.first, line.first + line.count, -1);
   }
+  // None taken in (an indoor scan's ground is all planar): an empty mark, which every ground
+  // triangle's join test reads as "none" without looking up its corners.
+  if (taken == 0) continued.clear();
   return {std::move(ground_of), std::move(continued)};
 }
 

@@ -33,7 +33,7 @@ struct GroundContinuationLimits {
 
 struct ContinuedGround {
   std::vector<std::int32_t> ground_of;  // per point, its ground plane or -1
-  std::vector<bool> continued;          // per point, true where continueGround added it
+  std::vector<bool> continued;  // per point, true where continueGround added it; empty: none
 };
 
 // `ground_of` (per point, its ground plane or -1) with the returns that continue the ground added
