@@ -1,5 +1,7 @@
 #include "ground_continuation.h"
 
+#include "ground_triangles.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -113,8 +115,7 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
   auto planeZ = [&](std::int32_t plane, const Eigen::Vector3f& p) {
     if (plane < 0 || std::size_t(plane) >= plane_heights.size())
       return std::numeric_limits<double>::quiet_NaN();
-    const Eigen::Vector3d& h = plane_heights[std::size_t(plane)];
-    return h.x() + h.y() * double(p.x()) + h.z() * double(p.y());
+    return EdgeLimit::heightOn(plane_heights[std::size_t(plane)], double(p.x()), double(p.y()));
   };
   // Whether return `i` continues the ground from the ground return `from` before it on its line.
   auto continues = [&](std::size_t i, std::size_t from) {

@@ -474,8 +474,7 @@ void forEachPlaneBorder(const MapInputs& inputs, Visit&& visit) {
 // scene's kerb seen from beyond it). Both cells keep that step (seam_step), as a join's do.
 void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane_heights) {
   auto planeZ = [&](int plane, const Eigen::Vector2d& p) {
-    const Eigen::Vector3d& h = plane_heights[std::size_t(plane)];
-    return h[0] + h[1] * p.x() + h[2] * p.y();
+    return detail::EdgeLimit::heightOn(plane_heights[std::size_t(plane)], p.x(), p.y());
   };
   forEachPlaneBorder(inputs, [&](std::size_t here, std::size_t there, int a, int b,
                                  const Eigen::Vector2d& between) {

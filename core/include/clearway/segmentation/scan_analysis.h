@@ -89,9 +89,11 @@ struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
   std::vector<float> ground_height;        // per cell: that plane's map z at the cell centre
-  // Per cell: the step [m] between two ground planes that a ground triangle joining them spans
-  // over the cell (a low kerb seen from above, its face unseen), 0 elsewhere. The traversability
-  // check blocks the cell for a robot whose step is smaller.
+  // Per cell: the step [m] the cell stands for between two ground levels, 0 elsewhere: the one a
+  // ground triangle joining two planes (a low kerb seen from above, its face unseen) or reaching
+  // ground no plane took in spans over it, and where cells of two planes meet more than 5 cm
+  // apart, at least the planes' difference there. The traversability check blocks the cell for a
+  // robot whose step is smaller.
   std::vector<float> seam_step;
   // Per ground cell: the widest obstacle that could stand between the sensor's samples there
   // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
