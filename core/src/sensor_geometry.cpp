@@ -70,9 +70,8 @@ struct LineShape {
   // turns one way (a ring's full turn, a fan's half turn through the zenith), within about 30 %
   // for each back-and-forth of noise. It only tells rings (a full turn) from fans.
   double azimuth_sweep = 0.0;
-  double azimuth = 0.0;    // direction of the line's points about z (vector mean) [rad]
-  double elevation = 0.0;  // median elevation [rad]
-  double step = 0.0;       // median angle between neighbouring returns [rad]
+  double azimuth = 0.0;  // direction of the line's points about z (vector mean) [rad]
+  double step = 0.0;     // median angle between neighbouring returns [rad]
 };
 
 // The median of acos(cosines[j]) / gaps[j] (angles between neighbouring samples, per return
@@ -92,17 +91,10 @@ double medianStep(std::vector<double>& cosines, const std::vector<double>& gaps)
   return median(std::move(steps));
 }
 
-LineShape shapeOf(const Scan& scan, const ScanLine& line) {
-  LineShape shape;
-  // The sines of the elevations: asin is increasing, so their median's is the elevations' median.
-  std::vector<double> elevation_sines;
-  // Between neighbouring samples: the cosine of the angle, and the returns it spans.
-  std::vector<double> step_cosines, step_gaps;
-  double sum_x = 0.0, sum_y = 0.0;
-  bool has_previous = false;
-  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
-  double previous_azimuth = 0.0;
-  std::size_t previous_index = 0;
+// The directions of a line's samples (at most kStepsPerLine of them, evenly spread), to `visit`
+// with each sample's point index.
+template <typename Visit>
+void forSampledDirections(const Scan& scan, const ScanLine& line, Visit&& visit) {
   const std::size_t stride = std::max<std::size_t>(1, line.count / kStepsPerLine);
   for (std::size_t k = 0; k < line.count; k += stride) {
     const std::size_t i = line.first + k;
@@ -111,7 +103,26 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
     const Eigen::Vector3d v(p.x, p.y, p.z);
     const double range = v.norm();
     if (range <= 1e-6) continue;
-    const Eigen::Vector3d direction = v / range;
+    visit(i, Eigen::Vector3d(v / range));
+  }
+}
+
+// Everything but the elevation, which only rings need (medianElevation): a RoSi scan has
+// thousands of lines, and the elevations' median was a quarter of their description's time.
+LineShape shapeOf(const Scan& scan, const ScanLine& line) {
+  LineShape shape;
+  // Between neighbouring samples: the cosine of the angle, and the returns it spans. Kept per
+  // thread: a line's description is a few hundred instructions per return, and allocating three
+  // vectors per line (thousands of lines) cost a tenth of it.
+  thread_local std::vector<double> step_cosines, step_gaps;
+  step_cosines.clear();
+  step_gaps.clear();
+  double sum_x = 0.0, sum_y = 0.0;
+  bool has_previous = false;
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  double previous_azimuth = 0.0;
+  std::size_t previous_index = 0;
+  forSampledDirections(scan, line, [&](std::size_t i, const Eigen::Vector3d& direction) {
     const double azimuth = pseudoAngle(direction.x(), direction.y());
     sum_x += direction.x();
     sum_y += direction.y();
@@ -121,19 +132,27 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
       step_cosines.push_back(std::clamp(direction.dot(previous), -1.0, 1.0));
       step_gaps.push_back(double(i - previous_index));
     }
-    elevation_sines.push_back(std::clamp(direction.z(), -1.0, 1.0));
     previous = direction;
     previous_index = i;
     previous_azimuth = azimuth;
     has_previous = true;
-  }
+  });
   if (step_cosines.empty()) return shape;
   shape.usable = true;
   shape.azimuth_sweep *= 2.0 * kPi / kPseudoTurn;
   shape.azimuth = std::atan2(sum_y, sum_x);
-  shape.elevation = std::asin(median(std::move(elevation_sines)));
   shape.step = medianStep(step_cosines, step_gaps);
   return shape;
+}
+
+// The median elevation of a line's samples [rad]. The sines of the elevations: asin is
+// increasing, so their median's is the elevations' median.
+double medianElevation(const Scan& scan, const ScanLine& line) {
+  std::vector<double> elevation_sines;
+  forSampledDirections(scan, line, [&](std::size_t, const Eigen::Vector3d& direction) {
+    elevation_sines.push_back(std::clamp(direction.z(), -1.0, 1.0));
+  });
+  return std::asin(median(std::move(elevation_sines)));
 }
 
 }  // namespace
@@ -181,11 +200,14 @@ SensorGeometry describeSensor(const Scan& scan, int threads) {
   if (median(sweeps) >= kRingSweep) {
     // Rings: the step between them is the elevation step, whatever order the file keeps them in.
     sensor.kind = SensorKind::kMultiBeam;
-    for (std::size_t k = 0; k < shapes.size(); ++k)
-      sensor.line_angle[used[k]] = shapes[k].elevation;
+    detail::parallelChunks(
+        used.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+          for (std::size_t k = begin; k < end; ++k)
+            sensor.line_angle[used[k]] = medianElevation(scan, scan.lines[used[k]]);
+        });
     std::vector<double> elevations;
-    for (const LineShape& s : shapes)
-      elevations.push_back(s.elevation);
+    for (const std::size_t l : used)
+      elevations.push_back(sensor.line_angle[l]);
     std::sort(elevations.begin(), elevations.end());
     std::vector<double> gaps;
     for (std::size_t k = 1; k < elevations.size(); ++k)

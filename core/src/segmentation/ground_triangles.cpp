@@ -31,10 +31,11 @@ std::size_t partner(const ScanLine& from, const ScanLine& to, std::size_t k) {
 
 // The angle that runs along each line, per point: elevation along a rotating scanner's fans, seen
 // from `lift` up the turntable axis, azimuth (unwrapped) along a multi-beam ring; ordered along
-// the line. Points without a direction take their predecessor's.
-std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double lift) {
+// the line. Points without a direction take their predecessor's. An arc tangent per point, so
+// the lines are dealt out to the threads (a tenth of the map inputs' time on one thread).
+std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double lift, int threads) {
   std::vector<double> along(scan.size(), 0.0);
-  for (const ScanLine& line : scan.lines) {
+  auto alongLine = [&](const ScanLine& line) {
     double previous = 0.0, raw_previous = 0.0;
     bool started = false;
     for (std::size_t i = line.first; i < line.first + line.count; ++i) {
@@ -65,7 +66,12 @@ std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double li
       started = true;
       along[i] = previous;
     }
-  }
+  };
+  detail::parallelChunks(scan.lines.size(), threads,
+                         [&](std::size_t begin, std::size_t end, std::size_t) {
+                           for (std::size_t l = begin; l < end; ++l)
+                             alongLine(scan.lines[l]);
+                         });
   return along;
 }
 
@@ -394,7 +400,7 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   const bool by_angle = !scan.isOrganised();
   const double lift = std::max(0.0, kElevationHeight - scanner_height);
   std::vector<double> along =
-      by_angle ? angleAlongLines(scan, multi_beam, lift) : std::vector<double>{};
+      by_angle ? angleAlongLines(scan, multi_beam, lift, threads) : std::vector<double>{};
   const bool elevation_fans =
       !along.empty() && !multi_beam && sweepInElevation(scan, along, sensor);
   // The elevation from the file's origin is what was computed above when the origin is high
