@@ -419,8 +419,11 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   const std::size_t lines = order.size();
   const bool revolution = lines > 2 && side_by_side.closes;
   const std::size_t pairs = lines == 0 ? 0 : lines - 1 + (revolution ? 1 : 0);
-  const std::size_t chunks = std::size_t(std::max(threads, 1));
-  std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(chunks);
+  // The ground is uneven along the turn (a wall close by on one side, open floor on the other):
+  // several parts per thread keep both threads busy to the end.
+  constexpr std::size_t kPartsPerThread = 4;
+  std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(
+      detail::chunkCount(pairs, threads, kPartsPerThread));
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
   const bool across_lines = sweep_partners && !multi_beam;
   if (across_lines)
@@ -432,38 +435,46 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     for (; it != chosen.end() && *it < line.first + line.count; ++it)
       visit(std::size_t(*it - line.first), std::size_t(it - chosen.begin()));
   };
-  detail::parallelChunks(pairs, threads,
-                         [&](std::size_t begin, std::size_t end, std::size_t chunk) {
-                           std::vector<std::size_t> partners;
-                           for (std::size_t l = begin; l < end; ++l) {
-                             const ScanLine& a = fans.lines[order[l]];
-                             const ScanLine& b = fans.lines[order[(l + 1) % lines]];
-                             if (a.count == 0 || b.count == 0) continue;
-                             if (!along.empty()) partnersByAngle(along, a, b, partners);
-                             auto partnerOf = [&](std::size_t k) {
-                               return along.empty() ? partner(a, b, k) : partners[k];
-                             };
-                             for (std::size_t k = 0; k + 1 < a.count; ++k) {
-                               const std::size_t a0 = a.first + k, a1 = a0 + 1;
-                               const std::size_t b0 = partnerOf(k), b1 = partnerOf(k + 1);
-                               add(parts[chunk], a0, a1, b0);
-                               if (b1 != b0) add(parts[chunk], a1, b1, b0);
-                             }
-                             if (!across_lines) continue;
-                             // Each pair of lines writes the after-partners of a's points and the
-                             // before-partners of b's: no element is written twice.
-                             forChosen(a, [&](std::size_t k, std::size_t entry) {
-                               sweep_partners->partners[entry][1] = std::uint32_t(partnerOf(k));
-                             });
-                             if (!along.empty()) partnersByAngle(along, b, a, partners);
-                             forChosen(b, [&](std::size_t k, std::size_t entry) {
-                               sweep_partners->partners[entry][0] =
-                                   std::uint32_t(along.empty() ? partner(b, a, k) : partners[k]);
-                             });
-                           }
-                         });
+  detail::parallelChunks(
+      pairs, threads,
+      [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+        std::vector<std::size_t> partners;
+        for (std::size_t l = begin; l < end; ++l) {
+          const ScanLine& a = fans.lines[order[l]];
+          const ScanLine& b = fans.lines[order[(l + 1) % lines]];
+          if (a.count == 0 || b.count == 0) continue;
+          if (!along.empty()) partnersByAngle(along, a, b, partners);
+          auto partnerOf = [&](std::size_t k) {
+            return along.empty() ? partner(a, b, k) : partners[k];
+          };
+          for (std::size_t k = 0; k + 1 < a.count; ++k) {
+            const std::size_t a0 = a.first + k, a1 = a0 + 1;
+            const std::size_t b0 = partnerOf(k), b1 = partnerOf(k + 1);
+            add(parts[chunk], a0, a1, b0);
+            if (b1 != b0) add(parts[chunk], a1, b1, b0);
+          }
+          if (!across_lines) continue;
+          // Each pair of lines writes the after-partners of a's points and the
+          // before-partners of b's: no element is written twice.
+          forChosen(a, [&](std::size_t k, std::size_t entry) {
+            sweep_partners->partners[entry][1] = std::uint32_t(partnerOf(k));
+          });
+          if (!along.empty()) partnersByAngle(along, b, a, partners);
+          forChosen(b, [&](std::size_t k, std::size_t entry) {
+            sweep_partners->partners[entry][0] =
+                std::uint32_t(along.empty() ? partner(b, a, k) : partners[k]);
+          });
+        }
+      },
+      kPartsPerThread);
+  std::size_t total = 0;
   for (const auto& part : parts)
+    total += part.size();
+  triangles.reserve(total);
+  for (auto& part : parts) {
     triangles.insert(triangles.end(), part.begin(), part.end());
+    part = {};  // freed as it is copied: the mesh is the largest thing a dense scan's map keeps
+  }
   return triangles;
 }
 

@@ -490,32 +490,54 @@ void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane
 
 // Each obstacle's neighbouring beams across the sweep (SweepNeighbours). `partners.points()` are
 // the obstacles' points, as measureObstacles keeps them: an entry's index is its obstacle's.
+// Obstacles are dealt out to the threads in ranges, each numbering its beams from 0; the ranges'
+// beams are then laid end to end in order and the later ranges' numbers moved up, so the result
+// does not depend on the number of threads.
 SweepNeighbours sweepNeighbours(const Scan& scan, const detail::SweepPartners& partners,
                                 const std::vector<Eigen::Vector3f>& mapped,
-                                const Eigen::Vector3f& scanner) {
+                                const Eigen::Vector3f& scanner, int threads) {
   SweepNeighbours neighbours;
   const std::size_t obstacles = partners.points().size();
   if (partners.partners.size() != obstacles) return neighbours;
   neighbours.of_obstacle.assign(obstacles, {SweepNeighbours::kNone, SweepNeighbours::kNone});
-  for (std::size_t obstacle = 0; obstacle < obstacles; ++obstacle) {
-    const std::size_t i = partners.points()[obstacle];
-    const float range = (mapped[i] - scanner).norm();
-    for (std::size_t side = 0; side < 2; ++side) {
-      const std::uint32_t q = partners.partners[obstacle][side];
-      if (q == detail::kNoPartner || !scan.isValid(q)) continue;
-      if (const std::uint32_t other = partners.entryOf(q); other != detail::kNoPartner) {
-        neighbours.of_obstacle[obstacle][side] = other;
-        continue;
-      }
-      // The neighbouring beam at this obstacle's range from the scanner.
-      const Eigen::Vector3f beam = mapped[q] - scanner;
-      const float length = beam.norm();
-      if (!(length > 0.0F)) continue;
-      const Eigen::Vector3f pass = scanner + beam * (range / length);
-      neighbours.of_obstacle[obstacle][side] =
-          SweepNeighbours::kBeam | std::uint32_t(neighbours.beams.size());
-      neighbours.beams.push_back({pass.x(), pass.y(), length - range});
-    }
+  std::vector<std::vector<SweepNeighbours::Beam>> beams(detail::chunkCount(obstacles, threads));
+  detail::parallelChunks(
+      obstacles, threads, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+        for (std::size_t obstacle = begin; obstacle < end; ++obstacle) {
+          const std::size_t i = partners.points()[obstacle];
+          const float range = (mapped[i] - scanner).norm();
+          for (std::size_t side = 0; side < 2; ++side) {
+            const std::uint32_t q = partners.partners[obstacle][side];
+            if (q == detail::kNoPartner || !scan.isValid(q)) continue;
+            if (const std::uint32_t other = partners.entryOf(q); other != detail::kNoPartner) {
+              neighbours.of_obstacle[obstacle][side] = other;
+              continue;
+            }
+            // The neighbouring beam at this obstacle's range from the scanner.
+            const Eigen::Vector3f beam = mapped[q] - scanner;
+            const float length = beam.norm();
+            if (!(length > 0.0F)) continue;
+            const Eigen::Vector3f pass = scanner + beam * (range / length);
+            neighbours.of_obstacle[obstacle][side] =
+                SweepNeighbours::kBeam | std::uint32_t(beams[chunk].size());
+            beams[chunk].push_back({pass.x(), pass.y(), length - range});
+          }
+        }
+      });
+  std::size_t total = 0;
+  for (const auto& part : beams)
+    total += part.size();
+  neighbours.beams.reserve(total);
+  for (std::size_t chunk = 0; chunk < beams.size(); ++chunk) {
+    const auto offset = std::uint32_t(neighbours.beams.size());
+    neighbours.beams.insert(neighbours.beams.end(), beams[chunk].begin(), beams[chunk].end());
+    beams[chunk] = {};
+    if (offset == 0) continue;
+    const std::size_t begin = obstacles * chunk / beams.size(),
+                      end = obstacles * (chunk + 1) / beams.size();
+    for (std::size_t obstacle = begin; obstacle < end; ++obstacle)
+      for (std::uint32_t& entry : neighbours.of_obstacle[obstacle])
+        if (entry != SweepNeighbours::kNone && (entry & SweepNeighbours::kBeam)) entry += offset;
   }
   return neighbours;
 }
@@ -591,7 +613,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
 
   inputs.ground_spacing = groundSpacing(inputs, analysis);
   inputs.sweep_neighbours = sweepNeighbours(scan, partners, mapped.positions,
-                                            map_from_scanner.translation().cast<float>());
+                                            map_from_scanner.translation().cast<float>(), threads);
   partners.partners = {};  // freed before the obstacles are made
   inputs.obstacles =
       measureObstacles(analysis, inputs, partners.points(), mapped.positions, cell_of, threads);

@@ -39,11 +39,19 @@ inline void parallelTasks(std::vector<std::function<void()>> tasks, int threads)
     if (error) std::rethrow_exception(error);
 }
 
-// Calls work(begin, end, chunk) for `chunks` contiguous parts of [0, count), in parallel.
+// How many contiguous parts parallelChunks cuts [0, count) into: `parts_per_thread` per thread
+// when several threads run, else one.
+inline std::size_t chunkCount(std::size_t count, int threads, std::size_t parts_per_thread = 1) {
+  const std::size_t wanted = threads > 1 ? std::size_t(threads) * parts_per_thread : 1;
+  return std::max<std::size_t>(1, std::min(count, wanted));
+}
+
+// Calls work(begin, end, chunk) for chunkCount(count, threads, parts_per_thread) contiguous parts
+// of [0, count), in parallel. More parts than threads balance work that is uneven along the range
+// (the threads take the parts as they finish), at the cost of one task each.
 template <typename Work>
-void parallelChunks(std::size_t count, int threads, Work&& work) {
-  const std::size_t chunks =
-      std::max<std::size_t>(1, std::min<std::size_t>(count, std::size_t(std::max(threads, 1))));
+void parallelChunks(std::size_t count, int threads, Work&& work, std::size_t parts_per_thread = 1) {
+  const std::size_t chunks = chunkCount(count, threads, parts_per_thread);
   if (chunks == 1) {
     work(std::size_t{0}, count, std::size_t{0});
     return;

@@ -264,6 +264,10 @@ bool SupportImage::contains(const Eigen::Vector3d& p) const {
   return kept[std::size_t(row) * std::size_t(width) + std::size_t(column)] != 0;
 }
 
+// Candidates differ in size by orders of magnitude (the floor against a pallet's side): each is a
+// task of its own, taken by whichever thread is free.
+constexpr std::size_t kCandidatesPerThread = 64;
+
 ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
                                const ValidationParams& params, int threads,
                                const SensorSpread& spread) {
@@ -271,7 +275,8 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
   std::vector<std::vector<std::uint32_t>> supports(candidates.size());
   const std::vector<PointBlock> blocks = pointBlocks(scan, threads);
   detail::parallelChunks(
-      candidates.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+      candidates.size(), threads,
+      [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t k = begin; k < end; ++k) {
           Plane& plane = candidates[k];
           std::size_t inner = 0;
@@ -294,34 +299,49 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
           plane.validated =
               area >= params.min_area && plane.inner_fraction >= params.min_inner_fraction;
         }
-      });
+      },
+      kCandidatesPerThread);
 
   ValidatedPlanes result;
   result.point_plane.assign(scan.size(), -1);
   std::vector<float> best_distance(scan.size(), std::numeric_limits<float>::max());
   result.min_area = params.min_area;
   result.min_inner_fraction = params.min_inner_fraction;
+  std::vector<std::size_t> validated;  // candidate of each validated plane, in order
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    if (!candidates[k].validated) {
-      ++result.rejected;
-      const Plane& plane = candidates[k];
-      result.rejected_planes.push_back({plane.normal, plane.offset, plane.support_points,
-                                        plane.support_area, plane.inner_fraction});
+    if (candidates[k].validated) {
+      validated.push_back(k);
       continue;
     }
-    const auto index = std::int32_t(result.planes.size());
+    ++result.rejected;
     const Plane& plane = candidates[k];
-    const SupportImage& image = images[k];
-    // A point belongs to the nearest validated plane that supports it within that plane's area.
-    for (std::uint32_t i : supports[k]) {
-      const Point3f& p = scan.points[i];
-      const Eigen::Vector3d q(p.x, p.y, p.z);
-      const float distance = float(std::abs(plane.signedDistance(q)));
-      if (distance < best_distance[i] && image.contains(q)) {
-        best_distance[i] = distance;
-        result.point_plane[i] = index;
-      }
-    }
+    result.rejected_planes.push_back({plane.normal, plane.offset, plane.support_points,
+                                      plane.support_area, plane.inner_fraction});
+  }
+  // A point belongs to the nearest validated plane that supports it within that plane's area
+  // (the first of equally near ones). Points are independent: each thread takes a range of them,
+  // and from each plane's support (sorted by point) the part in its range.
+  detail::parallelChunks(
+      scan.size(), threads, [&](std::size_t first, std::size_t end, std::size_t) {
+        for (std::size_t n = 0; n < validated.size(); ++n) {
+          const std::size_t k = validated[n];
+          const Plane& plane = candidates[k];
+          const SupportImage& image = images[k];
+          const std::vector<std::uint32_t>& support = supports[k];
+          auto it = std::lower_bound(support.begin(), support.end(), std::uint32_t(first));
+          for (; it != support.end() && *it < end; ++it) {
+            const std::uint32_t i = *it;
+            const Point3f& p = scan.points[i];
+            const Eigen::Vector3d q(p.x, p.y, p.z);
+            const float distance = float(std::abs(plane.signedDistance(q)));
+            if (distance < best_distance[i] && image.contains(q)) {
+              best_distance[i] = distance;
+              result.point_plane[i] = std::int32_t(n);
+            }
+          }
+        }
+      });
+  for (const std::size_t k : validated) {
     result.planes.push_back(std::move(candidates[k]));
     result.supports.push_back(std::move(images[k]));
   }

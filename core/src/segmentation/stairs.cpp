@@ -138,7 +138,11 @@ class HeightGrid {
         ++c.face_count;
       }
     }
-    // The points sorted by cell (CSR), for looking at the surface between two risers.
+  }
+
+  // Sorts the points by cell (CSR), for looking at the surface between two risers (forPointsIn):
+  // only where there are two risers to look between.
+  void sortPointsByCell() {
     cell_start_.assign(cells_.size() + 1, 0);
     for (std::size_t cell = 0; cell < cells_.size(); ++cell)
       cell_start_[cell + 1] = cell_start_[cell] + cells_[cell].count;
@@ -149,10 +153,10 @@ class HeightGrid {
     points_ = std::move(sorted);
   }
 
-  // Calls visit(x, y, z) for every point in the cells the box touches.
+  // Calls visit(x, y, z) for every point in the cells the box touches (once sortPointsByCell()).
   template <typename Visit>
   void forPointsIn(const Eigen::AlignedBox2d& box, Visit visit) const {
-    if (cells_.empty()) return;
+    if (cells_.empty() || cell_start_.empty()) return;
     const int c0 = std::max(0, int(std::floor((box.min().x() - origin_.x()) / cell_)));
     const int r0 = std::max(0, int(std::floor((box.min().y() - origin_.y()) / cell_)));
     const int c1 = std::min(width_ - 1, int(std::floor((box.max().x() - origin_.x()) / cell_)));
@@ -222,7 +226,7 @@ class HeightGrid {
   Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
   int width_ = 0, height_ = 0;
   std::vector<HeightCell> cells_;
-  std::vector<MapPoint> points_;  // sorted by cell once the grid is built
+  std::vector<MapPoint> points_;  // sorted by cell once sortPointsByCell() ran
   std::vector<std::uint32_t> cell_start_;
 };
 
@@ -396,7 +400,7 @@ std::optional<Staircase> fitStaircase(const std::vector<const Riser*>& chain,
 
 std::vector<Staircase> detectStairs(const Scan& scan, const Eigen::Isometry3d& map_from_scanner,
                                     const StairParams& params) {
-  const HeightGrid grid(scan, map_from_scanner, params);
+  HeightGrid grid(scan, map_from_scanner, params);
   const double cell = grid.cellSize();
   std::vector<Riser> pieces;
   for (auto& component : grid.riserComponents(params))
@@ -404,6 +408,9 @@ std::vector<Staircase> detectStairs(const Scan& scan, const Eigen::Isometry3d& m
   std::vector<Riser> risers;
   for (Riser& riser : joinPieces(grid, pieces))
     if (riser.length() >= params.min_width && riser.thickness <= cell) risers.push_back(riser);
+  // A staircase is a riser with a successor: one riser alone is none.
+  if (risers.size() < 2) return {};
+  grid.sortPointsByCell();
 
   // Each riser's successor: the nearest parallel, overlapping riser ahead (either way), if it is
   // a tread away and a rise higher.

@@ -218,16 +218,23 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
       free_mask.at<std::uint8_t>(row, column) =
           state == CellState::kGround || state == CellState::kLowObstacle ? kMaskSet : 0;
     }
-  lenient_mask = free_mask.clone();
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column)
-      if (tolerated[grid.index(column, row)]) lenient_mask.at<std::uint8_t>(row, column) = kMaskSet;
-  // The two distance transforms side by side.
-  parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
-    for (std::size_t which = begin; which < end; ++which)
-      (which == 0 ? clearance_ : lenient_clearance_) =
-          distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
-  });
+  // Without tolerated cells (a dense scan seen all round) both masks are the same: one transform.
+  if (std::none_of(tolerated.begin(), tolerated.end(), [](std::uint8_t t) { return t != 0; })) {
+    clearance_ = distancesLessOneCell(free_mask);
+    lenient_clearance_ = clearance_;
+  } else {
+    lenient_mask = free_mask.clone();
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column)
+        if (tolerated[grid.index(column, row)])
+          lenient_mask.at<std::uint8_t>(row, column) = kMaskSet;
+    // The two distance transforms side by side.
+    parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+      for (std::size_t which = begin; which < end; ++which)
+        (which == 0 ? clearance_ : lenient_clearance_) =
+            distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
+    });
+  }
 
   for (const auto* lists : {&footprints.enlarged, &footprints.rim})
     for (const auto& offsets : *lists)
