@@ -27,6 +27,9 @@ double segmentDistance(const LineSegment& a, const LineSegment& b) {
                    pointToSegment(b.end, a)});
 }
 
+// However far, rings of one surface are not farther apart than this [m].
+constexpr double kLongestRingGap = 3.0;
+
 // Multi-beam rings `lines` apart meet ground below the sensor range^2 / height x step apart: the
 // extra distance allowed between two segments there (0 for other sensors, or above the sensor).
 double ringGap(const LineSegment& a, const LineSegment& b, const LineNeighbourhood& around,
@@ -34,15 +37,81 @@ double ringGap(const LineSegment& a, const LineSegment& b, const LineNeighbourho
   if (around.ring_step <= 0.0) return 0.0;
   // Below this height difference the surface is not ground seen from above [m].
   constexpr double kLowestHeight = 0.3;
-  // However far, rings of one surface are not farther apart than this [m].
-  constexpr double kLongestGap = 3.0;
   const Eigen::Vector3f up = around.up.cast<float>();
   const double height =
       -std::max(up.dot(a.start + a.end), up.dot(b.start + b.end)) / 2.0;  // sensor above both
   if (height < kLowestHeight) return 0.0;
   const double range = std::max(a.range, b.range);
-  return std::min(kLongestGap, range * range / height * around.ring_step * lines);
+  return std::min(kLongestRingGap, range * range / height * around.ring_step * lines);
 }
+
+// Where a segment's midpoint lies about the sensor's z axis.
+struct Bearing {
+  double azimuth = 0.0;  // [rad]
+  double radius = 0.0;   // horizontal distance from the axis [m]
+};
+
+Bearing bearingOf(const LineSegment& segment) {
+  const Eigen::Vector3f middle = (segment.start + segment.end) / 2;
+  return {std::atan2(double(middle.y()), double(middle.x())),
+          std::hypot(double(middle.x()), double(middle.y()))};
+}
+
+// One line's segments by the direction of their midpoints about the sensor's z axis, to find
+// those that may lie near a given segment without looking at all of them: a multi-beam ring has
+// hundreds of segments all round the sensor, and comparing each with every segment of the next
+// rings was a fifth of such a frame's plane stages.
+class LineByAzimuth {
+ public:
+  LineByAzimuth(const std::vector<LineSegment>& segments, const std::vector<Bearing>& bearings,
+                std::size_t begin, std::size_t end)
+      : begin_(begin), end_(end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      entries_.push_back({bearings[j].azimuth, std::uint32_t(j)});
+      longest_ = std::max(longest_, double(segments[j].length()));
+    }
+    std::sort(entries_.begin(), entries_.end());
+  }
+
+  double longest() const { return longest_; }
+
+  // The segments of the line (ascending) whose midpoints may lie within `reach` of a midpoint at
+  // `bearing`. Two points at horizontal radii r and r' with directions `delta` apart lie at least
+  // max(r, r') sin(delta) apart (at least max(r, r') beyond a right angle): the rest are left out.
+  void near(const Bearing& bearing, double reach, std::vector<std::uint32_t>& out) const {
+    out.clear();
+    if (reach >= bearing.radius) {
+      for (std::size_t j = begin_; j < end_; ++j)
+        out.push_back(std::uint32_t(j));
+      return;
+    }
+    const double centre = bearing.azimuth;
+    const double half = std::asin(reach / bearing.radius) + kAngleSlack;
+    auto collect = [&](double from, double to) {
+      auto it = std::lower_bound(entries_.begin(), entries_.end(), Entry{from, 0});
+      for (; it != entries_.end() && it->azimuth <= to; ++it)
+        out.push_back(it->segment);
+    };
+    const double pi = std::numbers::pi;
+    collect(std::max(centre - half, -pi - 1.0), std::min(centre + half, pi + 1.0));
+    if (centre - half < -pi) collect(centre - half + 2 * pi, pi + 1.0);  // wrapped
+    if (centre + half > pi) collect(-pi - 1.0, centre + half - 2 * pi);
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+
+ private:
+  // atan2 and asin are within a few ulps; this is far beyond them [rad].
+  static constexpr double kAngleSlack = 1e-6;
+  struct Entry {
+    double azimuth;
+    std::uint32_t segment;
+    bool operator<(const Entry& other) const { return azimuth < other.azimuth; }
+  };
+  std::vector<Entry> entries_;
+  std::size_t begin_, end_;
+  double longest_ = 0.0;
+};
 
 // Segments of neighbouring lines that look alike: nearly parallel and close.
 std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<LineSegment>& segments,
@@ -55,8 +124,26 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
   for (std::size_t l = line_count; l-- > 0;)
     line_begin[l] = std::min(line_begin[l], line_begin[l + 1]);
 
+  // Rings go round the sensor, and their segments are looked up by azimuth; a rotating scanner's
+  // fan lies in one vertical half-plane, where the azimuth tells its segments nothing apart.
+  const bool rings = around.ring_step > 0.0;
+  std::vector<Bearing> bearings(rings ? segments.size() : 0);
+  for (std::size_t i = 0; i < bearings.size(); ++i)
+    bearings[i] = bearingOf(segments[i]);
+  std::vector<LineByAzimuth> by_azimuth;
+  if (rings) {
+    by_azimuth.reserve(line_count);
+    for (std::size_t l = 0; l < line_count; ++l)
+      by_azimuth.emplace_back(segments, bearings, line_begin[l], line_begin[l + 1]);
+  }
+  // The farthest apart two segments' midpoints may lie and still be similar, less the half
+  // lengths: `allowed` below at its largest, with a millimetre for the floats' rounding.
+  const double farthest_gap = around.ring_step > 0.0 ? kLongestRingGap : 0.0;
+  constexpr double kReachSlack = 1e-3;  // [m]
+
   const double cos_max = std::cos(params.max_angle_deg * std::numbers::pi / 180.0);
   std::vector<std::vector<std::uint32_t>> neighbours(segments.size());
+  std::vector<std::uint32_t> candidates;
   for (std::size_t i = 0; i < segments.size(); ++i) {
     const LineSegment& a = segments[i];
     for (int step = 1; step <= params.neighbour_lines; ++step) {
@@ -64,7 +151,16 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
       if (!around.closed_turn && a.line + std::size_t(step) >= line_count) break;
       const std::size_t line = (a.line + std::size_t(step)) % line_count;
       if (line == a.line) break;
-      for (std::size_t j = line_begin[line]; j < line_begin[line + 1]; ++j) {
+      if (rings) {
+        const double reach =
+            params.max_distance + std::max(0.0, params.distance_per_metre) * double(a.range) +
+            farthest_gap + (double(a.length()) + by_azimuth[line].longest()) / 2 + kReachSlack;
+        by_azimuth[line].near(bearings[i], reach, candidates);
+      } else {
+        candidates.resize(line_begin[line + 1] - line_begin[line]);
+        std::iota(candidates.begin(), candidates.end(), std::uint32_t(line_begin[line]));
+      }
+      for (const std::uint32_t j : candidates) {
         const LineSegment& b = segments[j];
         if (std::abs(a.direction.dot(b.direction)) < cos_max) continue;
         const double range = std::min(a.range, b.range);
