@@ -9,6 +9,7 @@
 
 #include "clearway/segmentation/planes.h"
 #include "parallel.h"
+#include "row_dilation.h"
 
 namespace clearway {
 namespace {
@@ -218,10 +219,9 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   const bool grows = largest >= kGrowthAreaFactor * min_cells;
   cv::Mat reach = grows ? cv::Mat(counts > 0) : cv::Mat(supported.clone());
   const int gap_cells = std::max(1, int(std::lround(growth_gap / params.cell_size)));
-  if (grows)
-    cv::dilate(reach, reach,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                         cv::Size(2 * gap_cells + 1, 2 * gap_cells + 1)));
+  const cv::Mat gap_disk =
+      cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * gap_cells + 1, 2 * gap_cells + 1));
+  if (grows) detail::dilateByCentredRows(reach, reach, gap_disk);
   cv::Mat reach_labels;
   const int reach_components = cv::connectedComponents(reach, reach_labels, 8, CV_32S);
   std::vector<bool> keep(std::size_t(reach_components), false);
@@ -244,9 +244,7 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
       const int cell = cellOf(q);
       if (cell >= 0) own.at<std::uint8_t>(cell / image.width, cell % image.width) = 255;
     }
-    cv::dilate(own, own,
-               cv::getStructuringElement(cv::MORPH_ELLIPSE,
-                                         cv::Size(2 * gap_cells + 1, 2 * gap_cells + 1)));
+    detail::dilateByCentredRows(own, own, gap_disk);
     for (int row = 0; row < image.height; ++row)
       for (int column = 0; column < image.width; ++column)
         if (own.at<std::uint8_t>(row, column) == 0)
