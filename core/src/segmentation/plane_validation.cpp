@@ -106,7 +106,7 @@ double crowdingAboutCells(const Scan& scan, const Plane& plane,
   for (std::size_t k = 0; k < support.size(); ++k) {
     const int cell = cell_of[k];
     if (cell < 0) continue;
-    const int count = counts.at<std::uint16_t>(cell / counts.cols, cell % counts.cols);
+    const int count = counts.ptr<std::uint16_t>()[cell];
     if (count < params.min_cell_points) continue;
     const Point3f& p = scan.points[support[k]];
     const double range = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
@@ -178,6 +178,7 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   image.width = std::max(1, int(std::ceil((u_max - u_min) / params.cell_size)) + 1);
   image.height = std::max(1, int(std::ceil((v_max - v_min) / params.cell_size)) + 1);
 
+  // Freshly allocated images are continuous: a cell's index (cellOf) addresses them directly.
   cv::Mat counts(image.height, image.width, CV_16UC1, cv::Scalar(0));
   auto cellOf = [&](const Eigen::Vector2d& q) -> int {
     const int column = int((q.x() - u_min) / params.cell_size);
@@ -188,7 +189,7 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   for (const Eigen::Vector2d& q : uv) {
     const int cell = cellOf(q);
     if (cell < 0) continue;
-    auto& count = counts.at<std::uint16_t>(cell / image.width, cell % image.width);
+    auto& count = counts.ptr<std::uint16_t>()[cell];
     if (count < 65535) ++count;
   }
   if (local_inner_fraction)
@@ -205,7 +206,7 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   const double cell_area = params.cell_size * params.cell_size;
   const int min_cells = std::max(1, int(std::ceil(params.min_area / cell_area)));
   int largest = 0;
-  std::vector<bool> real(std::size_t(components), false);
+  std::vector<std::uint8_t> real(std::size_t(components), 0);
   for (int c = 1; c < components; ++c) {
     const int area = stats.at<int>(c, cv::CC_STAT_AREA);
     largest = std::max(largest, area);
@@ -224,31 +225,40 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   if (grows) detail::dilateByCentredRows(reach, reach, gap_disk);
   cv::Mat reach_labels;
   const int reach_components = cv::connectedComponents(reach, reach_labels, 8, CV_32S);
-  std::vector<bool> keep(std::size_t(reach_components), false);
-  for (int row = 0; row < image.height; ++row)
+  // Row by row through pointers: a multi-beam frame's road image has hundreds of thousands of
+  // cells, and these loops ran for every one of them.
+  std::vector<std::uint8_t> keep(std::size_t(reach_components), 0);
+  for (int row = 0; row < image.height; ++row) {
+    const int* component = labels.ptr<int>(row);
+    const int* reached = reach_labels.ptr<int>(row);
     for (int column = 0; column < image.width; ++column)
-      if (real[std::size_t(labels.at<int>(row, column))])
-        keep[std::size_t(reach_labels.at<int>(row, column))] = true;
+      if (real[std::size_t(component[column])]) keep[std::size_t(reached[column])] = 1;
+  }
   image.kept.assign(std::size_t(image.width) * std::size_t(image.height), 0);
-  for (int row = 0; row < image.height; ++row)
+  for (int row = 0; row < image.height; ++row) {
+    const std::uint16_t* count = counts.ptr<std::uint16_t>(row);
+    const std::uint8_t* dense = supported.ptr<std::uint8_t>(row);
+    const int* reached = reach_labels.ptr<int>(row);
+    std::uint8_t* kept = image.kept.data() + std::size_t(row) * std::size_t(image.width);
     for (int column = 0; column < image.width; ++column)
-      if ((grows ? counts.at<std::uint16_t>(row, column) > 0
-                 : supported.at<std::uint8_t>(row, column) > 0) &&
-          keep[std::size_t(reach_labels.at<int>(row, column))])
-        image.kept[std::size_t(row) * std::size_t(image.width) + std::size_t(column)] = 1;
+      kept[column] =
+          (grows ? count[column] > 0 : dense[column] > 0) && keep[std::size_t(reached[column])];
+  }
   if (segments) {
     // The plane is known only near the points it was fitted to: its area stays within the growth
     // gap of its own segments.
     cv::Mat own(image.height, image.width, CV_8UC1, cv::Scalar(0));
     for (const Eigen::Vector2d& q : own_uv) {
       const int cell = cellOf(q);
-      if (cell >= 0) own.at<std::uint8_t>(cell / image.width, cell % image.width) = 255;
+      if (cell >= 0) own.ptr<std::uint8_t>()[cell] = 255;
     }
     detail::dilateByCentredRows(own, own, gap_disk);
-    for (int row = 0; row < image.height; ++row)
+    for (int row = 0; row < image.height; ++row) {
+      const std::uint8_t* near_own = own.ptr<std::uint8_t>(row);
+      std::uint8_t* kept = image.kept.data() + std::size_t(row) * std::size_t(image.width);
       for (int column = 0; column < image.width; ++column)
-        if (own.at<std::uint8_t>(row, column) == 0)
-          image.kept[std::size_t(row) * std::size_t(image.width) + std::size_t(column)] = 0;
+        kept[column] = near_own[column] ? kept[column] : 0;
+    }
   }
   return largest * cell_area;
 }
