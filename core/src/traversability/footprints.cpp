@@ -168,12 +168,15 @@ std::vector<std::uint8_t> cellsNearSparse(const std::vector<std::uint8_t>& spars
 }
 
 std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid) {
+  // Row by row through pointers: a multi-beam frame's map has hundreds of thousands of cells.
   auto maskOf = [&](auto predicate) {
     cv::Mat mask(grid.height, grid.width, CV_8UC1);
-    for (int row = 0; row < grid.height; ++row)
+    for (int row = 0; row < grid.height; ++row) {
+      std::uint8_t* cells = mask.ptr<std::uint8_t>(row);
+      const CellState* states = classes.state.data() + grid.index(0, row);
       for (int column = 0; column < grid.width; ++column)
-        mask.at<std::uint8_t>(row, column) =
-            predicate(classes.state[grid.index(column, row)]) ? kMaskSet : 0;
+        cells[column] = predicate(states[column]) ? kMaskSet : 0;
+    }
     return mask;
   };
   const cv::Mat observed = maskOf([](CellState s) { return s != CellState::kUnknown; });
@@ -187,18 +190,21 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
   cv::dilate(blocked_mask, beside_blocked,
              cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
   std::vector<std::uint8_t> tolerated(grid.cells(), 0);
-  for (int row = 1; row + 1 < grid.height; ++row)
+  for (int row = 1; row + 1 < grid.height; ++row) {
+    const std::uint8_t* above = observed.ptr<std::uint8_t>(row - 1);
+    const std::uint8_t* here = observed.ptr<std::uint8_t>(row);
+    const std::uint8_t* below = observed.ptr<std::uint8_t>(row + 1);
+    const std::uint8_t* closed = enclosed.ptr<std::uint8_t>(row);
+    const std::uint8_t* beside = beside_blocked.ptr<std::uint8_t>(row);
+    std::uint8_t* out = tolerated.data() + grid.index(0, row);
     for (int column = 1; column + 1 < grid.width; ++column) {
-      if (observed.at<std::uint8_t>(row, column) || enclosed.at<std::uint8_t>(row, column) ||
-          beside_blocked.at<std::uint8_t>(row, column))
-        continue;
-      auto seen = [&](int dc, int dr) {
-        return observed.at<std::uint8_t>(row + dr, column + dc) != 0;
-      };
-      if ((seen(-1, 0) && seen(1, 0)) || (seen(0, -1) && seen(0, 1)) ||
-          (seen(-1, -1) && seen(1, 1)) || (seen(-1, 1) && seen(1, -1)))
-        tolerated[grid.index(column, row)] = 1;
+      if (here[column] || closed[column] || beside[column]) continue;
+      const int left = column - 1, right = column + 1;
+      if ((here[left] && here[right]) || (above[column] && below[column]) ||
+          (above[left] && below[right]) || (below[left] && above[right]))
+        out[column] = 1;
     }
+  }
   return tolerated;
 }
 
@@ -212,22 +218,27 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   step_ = grid.resolution / kCentresPerAxis;
 
   cv::Mat free_mask(grid.height, grid.width, CV_8UC1), lenient_mask;
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const CellState state = classes.state[grid.index(column, row)];
-      free_mask.at<std::uint8_t>(row, column) =
-          state == CellState::kGround || state == CellState::kLowObstacle ? kMaskSet : 0;
-    }
+  for (int row = 0; row < grid.height; ++row) {
+    std::uint8_t* cells = free_mask.ptr<std::uint8_t>(row);
+    const CellState* states = classes.state.data() + grid.index(0, row);
+    for (int column = 0; column < grid.width; ++column)
+      cells[column] =
+          states[column] == CellState::kGround || states[column] == CellState::kLowObstacle
+              ? kMaskSet
+              : 0;
+  }
   // Without tolerated cells (a dense scan seen all round) both masks are the same: one transform.
   if (std::none_of(tolerated.begin(), tolerated.end(), [](std::uint8_t t) { return t != 0; })) {
     clearance_ = distancesLessOneCell(free_mask);
     lenient_clearance_ = clearance_;
   } else {
     lenient_mask = free_mask.clone();
-    for (int row = 0; row < grid.height; ++row)
+    for (int row = 0; row < grid.height; ++row) {
+      std::uint8_t* cells = lenient_mask.ptr<std::uint8_t>(row);
+      const std::uint8_t* vouched = tolerated.data() + grid.index(0, row);
       for (int column = 0; column < grid.width; ++column)
-        if (tolerated[grid.index(column, row)])
-          lenient_mask.at<std::uint8_t>(row, column) = kMaskSet;
+        cells[column] = vouched[column] ? kMaskSet : cells[column];
+    }
     // The two distance transforms side by side.
     parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
       for (std::size_t which = begin; which < end; ++which)
