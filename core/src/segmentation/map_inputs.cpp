@@ -377,21 +377,28 @@ void markSingleHoles(MapInputs& inputs) {
 }
 
 // What could hide between the ground samples of each ground cell (docs/ALGORITHM.md).
-std::vector<float> groundSpacing(const MapInputs& inputs, const ScanAnalysis& analysis) {
+std::vector<float> groundSpacing(const MapInputs& inputs, const ScanAnalysis& analysis,
+                                 int threads) {
   const MapGrid& grid = inputs.grid;
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   const double scanner_z = analysis.map_from_scanner.translation().z();
   std::vector<float> spacing(grid.cells(), std::numeric_limits<float>::infinity());
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      if (inputs.ground_plane[cell] < 0) continue;
-      const Eigen::Vector2d centre = grid.centre(column, row);
-      const Eigen::Vector3d ground(centre.x(), centre.y(), inputs.ground_height[cell]);
-      spacing[cell] =
-          float(hiddenObstacleSize(analysis.sensor, scanner_from_map * ground, analysis.up,
-                                   scanner_z - inputs.ground_height[cell]));
-    }
+  // A few dozen operations per ground cell, and a multi-beam frame's map has hundreds of
+  // thousands: the rows are dealt out to the threads.
+  detail::parallelChunks(
+      std::size_t(grid.height), threads,
+      [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
+        for (int row = int(row_begin); row < int(row_end); ++row)
+          for (int column = 0; column < grid.width; ++column) {
+            const std::size_t cell = grid.index(column, row);
+            if (inputs.ground_plane[cell] < 0) continue;
+            const Eigen::Vector2d centre = grid.centre(column, row);
+            const Eigen::Vector3d ground(centre.x(), centre.y(), inputs.ground_height[cell]);
+            spacing[cell] =
+                float(hiddenObstacleSize(analysis.sensor, scanner_from_map * ground, analysis.up,
+                                         scanner_z - inputs.ground_height[cell]));
+          }
+      });
   return spacing;
 }
 
@@ -611,7 +618,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markSingleHoles(inputs);
   markPlaneEdges(inputs, limit.plane_heights);
 
-  inputs.ground_spacing = groundSpacing(inputs, analysis);
+  inputs.ground_spacing = groundSpacing(inputs, analysis, threads);
   inputs.sweep_neighbours = sweepNeighbours(scan, partners, mapped.positions,
                                             map_from_scanner.translation().cast<float>(), threads);
   partners.partners = {};  // freed before the obstacles are made
