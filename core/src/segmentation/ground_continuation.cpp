@@ -1,7 +1,5 @@
 #include "ground_continuation.h"
 
-#include "ground_triangles.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -115,7 +113,7 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
   auto planeZ = [&](std::int32_t plane, const Eigen::Vector3f& p) {
     if (plane < 0 || std::size_t(plane) >= plane_heights.size())
       return std::numeric_limits<double>::quiet_NaN();
-    return EdgeLimit::heightOn(plane_heights[std::size_t(plane)], double(p.x()), double(p.y()));
+    return heightOnPlane(plane_heights[std::size_t(plane)], double(p.x()), double(p.y()));
   };
   // Whether return `i` continues the ground from the ground return `from` before it on its line.
   auto continues = [&](std::size_t i, std::size_t from) {

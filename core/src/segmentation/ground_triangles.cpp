@@ -9,6 +9,7 @@
 #include <map>
 #include <numbers>
 
+#include "clearway/segmentation/scan_analysis.h"
 #include "parallel.h"
 
 namespace clearway::detail {
@@ -357,7 +358,7 @@ double EdgeLimit::joinedStep(const std::vector<std::int32_t>& ground_of, std::si
   double lowest = std::numeric_limits<double>::max(),
          highest = std::numeric_limits<double>::lowest();
   for (const std::int32_t plane : {ground_of[a], ground_of[b], ground_of[c]}) {
-    const double z = heightOn(plane_heights[std::size_t(plane)], centre.x(), centre.y());
+    const double z = heightOnPlane(plane_heights[std::size_t(plane)], centre.x(), centre.y());
     if (!std::isfinite(z)) return std::numeric_limits<double>::infinity();
     lowest = std::min(lowest, z);
     highest = std::max(highest, z);

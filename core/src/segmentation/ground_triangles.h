@@ -31,13 +31,9 @@ struct EdgeLimit {
   // over; a stair's treads are too high to join. The map keeps the step each joining triangle
   // spans (MapInputs::seam_step), so a robot with a smaller step is still stopped there.
   double largest_seam_step = 0.05;
-  // Per plane (index into the validated planes): its map height z = h0 + hx x + hy y as
-  // (h0, hx, hy); NaN for planes that are not ground. Empty: corners' heights only.
+  // Per plane (index into the validated planes): its map height coefficients (heightOnPlane());
+  // NaN for planes that are not ground. Empty: corners' heights only.
   std::vector<Eigen::Vector3d> plane_heights = {};
-  // A plane's map height at (x, y) from its entry of plane_heights.
-  static double heightOn(const Eigen::Vector3d& plane_height, double x, double y) {
-    return plane_height[0] + plane_height[1] * x + plane_height[2] * y;
-  }
   // Per point, true where it is ground no plane took in (continueGround): it may lie up to a step
   // off its plane, so a triangle with such a corner joins as two planes do. Empty: none.
   std::vector<bool> continued = {};

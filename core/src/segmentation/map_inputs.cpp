@@ -126,21 +126,13 @@ std::vector<Eigen::Vector2i> cellsOfPoints(const Scan& scan,
   return cell_of;
 }
 
-// Per plane, its map height z = h0 + hx x + hy y as (h0, hx, hy) when it is ground, else NaN
-// (EdgeLimit::plane_heights). A plane n . p = d in the scanner frame is (R n) . m = d + (R n) . t
-// in the map frame m = R p + t.
+// Per plane, its map height coefficients (ScanAnalysis::height_coefficients) when it is ground,
+// else NaN (EdgeLimit::plane_heights).
 std::vector<Eigen::Vector3d> groundPlaneHeights(const ScanAnalysis& analysis) {
-  const std::vector<Plane>& planes = analysis.planes.planes;
-  std::vector<Eigen::Vector3d> heights(planes.size(), Eigen::Vector3d::Constant(std::nan("")));
-  const Eigen::Matrix3d rotation = analysis.map_from_scanner.linear();
-  const Eigen::Vector3d translation = analysis.map_from_scanner.translation();
-  for (const int g : analysis.ground_planes) {
-    const Plane& plane = planes[std::size_t(g)];
-    const Eigen::Vector3d n = rotation * plane.normal;
-    if (std::abs(n.z()) < 1e-6) continue;
-    const double d = plane.offset + n.dot(translation);
-    heights[std::size_t(g)] = {d / n.z(), -n.x() / n.z(), -n.y() / n.z()};
-  }
+  std::vector<Eigen::Vector3d> heights(analysis.planes.planes.size(),
+                                       Eigen::Vector3d::Constant(std::nan("")));
+  for (const int g : analysis.ground_planes)
+    heights[std::size_t(g)] = analysis.height_coefficients[std::size_t(g)];
   return heights;
 }
 
@@ -481,7 +473,7 @@ void forEachPlaneBorder(const MapInputs& inputs, Visit&& visit) {
 // scene's kerb seen from beyond it). Both cells keep that step (seam_step), as a join's do.
 void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane_heights) {
   auto planeZ = [&](int plane, const Eigen::Vector2d& p) {
-    return detail::EdgeLimit::heightOn(plane_heights[std::size_t(plane)], p.x(), p.y());
+    return heightOnPlane(plane_heights[std::size_t(plane)], p.x(), p.y());
   };
   forEachPlaneBorder(inputs, [&](std::size_t here, std::size_t there, int a, int b,
                                  const Eigen::Vector2d& between) {

@@ -227,25 +227,19 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
               ? kMaskSet
               : 0;
   }
-  // Without tolerated cells (a dense scan seen all round) both masks are the same: one transform.
-  if (std::none_of(tolerated.begin(), tolerated.end(), [](std::uint8_t t) { return t != 0; })) {
-    clearance_ = distancesLessOneCell(free_mask);
-    lenient_clearance_ = clearance_;
-  } else {
-    lenient_mask = free_mask.clone();
-    for (int row = 0; row < grid.height; ++row) {
-      std::uint8_t* cells = lenient_mask.ptr<std::uint8_t>(row);
-      const std::uint8_t* vouched = tolerated.data() + grid.index(0, row);
-      for (int column = 0; column < grid.width; ++column)
-        cells[column] = vouched[column] ? kMaskSet : cells[column];
-    }
-    // The two distance transforms side by side.
-    parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
-      for (std::size_t which = begin; which < end; ++which)
-        (which == 0 ? clearance_ : lenient_clearance_) =
-            distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
-    });
+  lenient_mask = free_mask.clone();
+  for (int row = 0; row < grid.height; ++row) {
+    std::uint8_t* cells = lenient_mask.ptr<std::uint8_t>(row);
+    const std::uint8_t* vouched = tolerated.data() + grid.index(0, row);
+    for (int column = 0; column < grid.width; ++column)
+      cells[column] = vouched[column] ? kMaskSet : cells[column];
   }
+  // The two distance transforms side by side.
+  parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
+    for (std::size_t which = begin; which < end; ++which)
+      (which == 0 ? clearance_ : lenient_clearance_) =
+          distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
+  });
 
   for (const auto* lists : {&footprints.enlarged, &footprints.rim})
     for (const auto& offsets : *lists)

@@ -85,6 +85,12 @@ struct GroundMesh {
   std::vector<std::array<std::uint32_t, 3>> triangles;  // vertex indices
 };
 
+// A plane's map height h = c0 + c1 x + c2 y above the map point (x, y), from its coefficients
+// (c0, c1, c2) (ScanAnalysis::height_coefficients).
+inline double heightOnPlane(const Eigen::Vector3d& c, double x, double y) {
+  return c[0] + c[1] * x + c[2] * y;
+}
+
 struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
@@ -133,10 +139,9 @@ struct ScanAnalysis {
   StairDetection stairs;  // staircases and, per cell of inputs.grid, which one covers it
   std::vector<StageTiming> timings;
 
-  // Map height of a ground plane above the map point (x, y): h = c0 + c1 x + c2 y.
+  // Map height of a ground plane above the map point (x, y).
   double planeHeight(int plane, double x, double y) const {
-    const Eigen::Vector3d& c = height_coefficients[std::size_t(plane)];
-    return c[0] + c[1] * x + c[2] * y;
+    return heightOnPlane(height_coefficients[std::size_t(plane)], x, y);
   }
   std::vector<Eigen::Vector3d> height_coefficients;  // per plane, set with the map frame
 };
