@@ -56,6 +56,7 @@ int runSegment(const std::vector<std::string>& words) {
               << result.map.counts[4] << "\n";
     std::cout << "reachable cells: " << result.map.reachable_cells << ", fit but unreachable "
               << result.map.fits_not_reachable_cells << "\n";
+    if (!result.map.reach_limit.empty()) std::cout << "reach: " << result.map.reach_limit << "\n";
     if (result.goal)
       std::cout << "goal: " << (result.goal->reachable ? "reachable" : "NOT reachable")
                 << (result.goal->reachable

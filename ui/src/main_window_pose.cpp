@@ -44,6 +44,7 @@ std::shared_ptr<const PipelineResult> withholdTraversable(const PipelineResult& 
   map.reach.clear();
   map.reachable_cells = 0;
   map.fits_not_reachable_cells = 0;
+  map.reach_limit.clear();
   for (CellLabel& label : withheld->scene.vertex_labels)
     if (drivable(label)) label = CellLabel::kUnknown;
   for (SceneBox& box : withheld->scene.obstacles)  // orange "probably passable" cubes

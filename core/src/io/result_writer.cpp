@@ -99,6 +99,7 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
   report["reach"] = {{"file", "reach.pgm"},
                      {"reachable_cells", map.reachable_cells},
                      {"fits_not_reachable_cells", map.fits_not_reachable_cells}};
+  if (!map.reach_limit.empty()) report["reach"]["limit"] = map.reach_limit;
   if (result.goal) {
     nlohmann::ordered_json path = nlohmann::ordered_json::array();
     for (const PathPose& pose : result.goal->path)

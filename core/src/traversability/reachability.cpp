@@ -523,6 +523,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
                       (why.empty() ? "" : ": " + why) + ")";
     } else {
       result.reason = "the robot fits at the goal but cannot get there from where it stands";
+      if (!map.reach_limit.empty()) result.reason += " (" + map.reach_limit + ")";
     }
     return result;
   }

@@ -15,6 +15,7 @@
 #include "../segmentation/parallel.h"
 #include "cell_classes.h"
 #include "footprints.h"
+#include "reach_limit.h"
 #include "reachability_search.h"
 
 namespace clearway {
@@ -366,6 +367,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
                       label == CellLabel::kObstacle;
     if (fits && !map.reach[cell]) ++map.fits_not_reachable_cells;
   }
+  map.reach_limit = detail::describeReachLimit(map, footprints.outer_radius);
   reportProgress(progress, 1.0);
   return map;
 }

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -61,6 +62,9 @@ struct TraversabilityMap {
   std::vector<std::uint8_t> reach;  // per cell: 1 reachable from the robot's pose, else 0
   std::size_t reachable_cells = 0;
   std::size_t fits_not_reachable_cells = 0;  // green/orange cells the robot cannot get to
+  // Why the reach stops short, in words (empty unless the robot fits in more cells it cannot get
+  // to than it reaches): unobserved ground around it, or what shuts it in.
+  std::string reach_limit;
   // PoseFit per (cell, orientation), cell-major (cell * yaws.size() + k); tested lazily by the
   // reachability search, so a goal query finds every reachable pose's fit here.
   std::vector<std::uint8_t> pose_fit;
