@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <utility>
 #include <opencv2/imgproc.hpp>
+#include <utility>
 #include <vector>
 
 namespace clearway::detail {
@@ -39,31 +39,46 @@ std::string describeReachLimit(const TraversabilityMap& map, double box_reach_ce
   if (map.reachable_cells == 0 || map.fits_not_reachable_cells <= map.reachable_cells ||
       map.reach.size() != grid.cells())
     return {};
-  // Each cell's distance to the reach (rows of the grid are rows of the image).
-  std::vector<std::uint8_t> outside(grid.cells());
-  std::transform(map.reach.begin(), map.reach.end(), outside.begin(),
-                 [](std::uint8_t reached) { return std::uint8_t(reached ? 0 : 1); });
-  const cv::Mat outside_image(grid.height, grid.width, CV_8UC1, outside.data());
+  // The nearest cell where the box fits but that the search did not reach, and the reach's
+  // bounding box of cells.
+  double nearest_fit = std::numeric_limits<double>::infinity();
+  const Eigen::Vector2d robot(map.robot_pose.x, map.robot_pose.y);
+  int first_row = grid.height, last_row = -1, first_column = grid.width, last_column = -1;
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      if (map.reach[cell]) {
+        first_row = std::min(first_row, row);
+        last_row = row;
+        first_column = std::min(first_column, column);
+        last_column = std::max(last_column, column);
+      } else if (fits(CellLabel(map.labels[cell]))) {
+        nearest_fit = std::min(nearest_fit, (grid.centre(column, row) - robot).norm());
+      }
+    }
+  // Each cell's distance to the reach, in the window of cells within the box's reach of it (the
+  // reach of a robot that is stuck is small: no pass over the whole map).
+  const int margin = int(std::ceil(box_reach_cells)) + 1;
+  const cv::Rect window =
+      cv::Rect(first_column - margin, first_row - margin,
+               last_column - first_column + 1 + 2 * margin, last_row - first_row + 1 + 2 * margin) &
+      cv::Rect(0, 0, grid.width, grid.height);
+  cv::Mat outside(window.height, window.width, CV_8UC1);
+  for (int y = 0; y < window.height; ++y)
+    for (int x = 0; x < window.width; ++x)
+      outside.at<std::uint8_t>(y, x) = map.reach[grid.index(window.x + x, window.y + y)] ? 0 : 1;
   cv::Mat distance;
-  cv::distanceTransform(outside_image, distance, cv::DIST_L2, cv::DIST_MASK_5);
+  cv::distanceTransform(outside, distance, cv::DIST_L2, cv::DIST_MASK_5);
   // What stops the box just beyond the reach lies within its reach of a reached cell: unobserved
   // cells, or cells that block for a reason of their own (a wall, an overhang, a step, stairs).
   // Free cells where the box does not fit are not a cause: something of those is near them.
   std::size_t causes = 0, unobserved = 0, stairs = 0;
   std::array<std::size_t, 8> blocked_by{};  // per CellReason
-  double nearest_fit = std::numeric_limits<double>::infinity();
-  const Eigen::Vector2d robot(map.robot_pose.x, map.robot_pose.y);
-  for (int row = 0; row < grid.height; ++row) {
-    const float* away = distance.ptr<float>(row);
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      if (map.reach[cell]) continue;
-      const CellLabel label = map.label(column, row);
-      if (fits(label)) {
-        nearest_fit = std::min(nearest_fit, (grid.centre(column, row) - robot).norm());
-        continue;
-      }
-      if (away[column] > box_reach_cells) continue;
+  for (int y = 0; y < window.height; ++y)
+    for (int x = 0; x < window.width; ++x) {
+      const std::size_t cell = grid.index(window.x + x, window.y + y);
+      const auto label = CellLabel(map.labels[cell]);
+      if (map.reach[cell] || fits(label) || distance.at<float>(y, x) > box_reach_cells) continue;
       if (label == CellLabel::kUnknown) {
         ++unobserved;
       } else if (label == CellLabel::kStairs) {
@@ -75,7 +90,6 @@ std::string describeReachLimit(const TraversabilityMap& map, double box_reach_ce
       }
       ++causes;
     }
-  }
   const std::size_t reached = map.reachable_cells;
   std::string text = "the robot reaches " + std::to_string(reached) +
                      (reached == 1 ? " cell" : " cells") + " from its own place and fits in " +
