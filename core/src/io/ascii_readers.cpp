@@ -195,6 +195,9 @@ Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options)
     const double range = std::sqrt(double(record[0]) * record[0] + double(record[1]) * record[1] +
                                    double(record[2]) * record[2]);
     if (!(range <= kFarthestVelodyneReturn) || !std::isfinite(record[3])) ++implausible;
+    // The frame is the sensor's own: a return over 1 km away is a corrupt record, not a point (a
+    // few at 1e30 m broke the rings' recovery and took two thirds of a frame's green cells).
+    if (!(range <= kFarthestVelodyneReturn)) scan.status.back() = PointStatus::kNoReturn;
   }
   // The format has no header to check: a file of other bytes would load as meaningless points.
   // Its floats are then mostly absurd (any bit pattern is some float), a real frame's never are.

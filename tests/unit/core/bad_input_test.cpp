@@ -288,6 +288,23 @@ TEST_F(BadInput, KittiFileWithAbsurdCoordinates) {
   expectScanError(write("far.bin", bytes), "not a Velodyne frame");
 }
 
+TEST_F(BadInput, AFewAbsurdKittiRecordsAreNoReturnsNotPoints) {
+  // One record in two hundred at 1e30 m (under the refusal's share), the rest a plausible frame.
+  std::string bytes;
+  constexpr int kRecords = 400;
+  for (int i = 0; i < kRecords; ++i) {
+    const float record[4] = {i % 200 == 7 ? 1e30F : 5.0F + 0.01F * float(i), 2.0F, -1.7F, 0.3F};
+    bytes.append(reinterpret_cast<const char*>(record), sizeof record);
+  }
+  const Scan scan = loadScan(write("two-absurd.bin", bytes));
+  ASSERT_EQ(scan.size(), std::size_t(kRecords));
+  EXPECT_EQ(scan.validCount(), std::size_t(kRecords - 2));
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    EXPECT_LT(std::abs(scan.points[i].x), 10.0F) << i;
+  }
+}
+
 TEST_F(BadInput, KittiFrameOfPlausibleRecordsLoads) {
   std::string bytes;
   for (int i = 0; i < 100; ++i) {
