@@ -50,6 +50,14 @@ double median(std::vector<double> values) {
 // A multi-beam ring sweeps (nearly) a full turn in azimuth; a RoSi half line sweeps none, a
 // nodding scanner's horizontal line at most its field of view (270 deg for most 2D scanners).
 constexpr double kRingSweep = 300.0 * kPi / 180.0;
+// A ring seen over less than that (a frame cropped to a camera's view, the upper rings of a
+// VLP-16 that meet only the buildings on one side) is still a cone about the spin axis: over at
+// least this much azimuth, its elevations (the middle 80 % of them) stay within kConeSpread. A
+// ring's own spread comes from its lasers' offsets on the head (KITTI's HDL-64E: 0.6-1.3 deg); a
+// RoSi fan spans tens of degrees of elevation, a nodding scanner's line as much as its tilt.
+constexpr double kPartialRingSweep = 60.0 * kPi / 180.0;
+constexpr double kConeSpread = 3.0 * kPi / 180.0;
+constexpr double kConeLowShare = 0.1, kConeHighShare = 0.9;
 // Along one line, at most this many steps are looked at: the median is settled long before.
 constexpr std::size_t kStepsPerLine = 400;
 // The closing step of a full turn may be this many times the usual step between lines (a line
@@ -72,6 +80,8 @@ struct LineShape {
   double azimuth_sweep = 0.0;
   double azimuth = 0.0;  // direction of the line's points about z (vector mean) [rad]
   double step = 0.0;     // median angle between neighbouring returns [rad]
+  // A multi-beam ring: a full turn of azimuth, or a partial one at one elevation (a cone).
+  bool ring = false;
 };
 
 // The median of acos(cosines[j]) / gaps[j] (angles between neighbouring samples, per return
@@ -114,9 +124,10 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
   // Between neighbouring samples: the cosine of the angle, and the returns it spans. Kept per
   // thread: a line's description is a few hundred instructions per return, and allocating three
   // vectors per line (thousands of lines) cost a tenth of it.
-  thread_local std::vector<double> step_cosines, step_gaps;
+  thread_local std::vector<double> step_cosines, step_gaps, elevation_sines;
   step_cosines.clear();
   step_gaps.clear();
+  elevation_sines.clear();
   double sum_x = 0.0, sum_y = 0.0;
   bool has_previous = false;
   Eigen::Vector3d previous = Eigen::Vector3d::Zero();
@@ -124,6 +135,7 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
   std::size_t previous_index = 0;
   forSampledDirections(scan, line, [&](std::size_t i, const Eigen::Vector3d& direction) {
     const double azimuth = pseudoAngle(direction.x(), direction.y());
+    elevation_sines.push_back(std::clamp(direction.z(), -1.0, 1.0));
     sum_x += direction.x();
     sum_y += direction.y();
     if (has_previous) {
@@ -142,6 +154,19 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
   shape.azimuth_sweep *= 2.0 * kPi / kPseudoTurn;
   shape.azimuth = std::atan2(sum_y, sum_x);
   shape.step = medianStep(step_cosines, step_gaps);
+  shape.ring = shape.azimuth_sweep >= kRingSweep;
+  if (!shape.ring && shape.azimuth_sweep >= kPartialRingSweep) {
+    // Only lines that sweep some azimuth pay for the quantiles (a RoSi's fans sweep none).
+    const std::size_t n = elevation_sines.size();
+    auto quantile = [&](double share) {
+      const auto at = elevation_sines.begin() +
+                      static_cast<std::ptrdiff_t>(std::min(n - 1, std::size_t(share * double(n))));
+      std::nth_element(elevation_sines.begin(), at, elevation_sines.end());
+      return std::asin(*at);
+    };
+    const double low = quantile(kConeLowShare), high = quantile(kConeHighShare);
+    shape.ring = high - low <= kConeSpread;
+  }
   return shape;
 }
 
@@ -190,14 +215,16 @@ SensorGeometry describeSensor(const Scan& scan, int threads) {
   }
   if (shapes.size() < 2) return sensor;
   sensor.line_angle.assign(scan.lines.size(), std::numeric_limits<double>::quiet_NaN());
-  std::vector<double> sweeps, along;
+  std::vector<double> along;
+  std::size_t rings = 0;
   for (const LineShape& s : shapes) {
-    sweeps.push_back(s.azimuth_sweep);
     along.push_back(s.step);
+    rings += s.ring;
   }
   sensor.along_line_step = median(along);
 
-  if (median(sweeps) >= kRingSweep) {
+  // Most lines are rings (the upper median: at least n - n / 2 of n).
+  if (rings >= shapes.size() - shapes.size() / 2) {
     // Rings: the step between them is the elevation step, whatever order the file keeps them in.
     sensor.kind = SensorKind::kMultiBeam;
     detail::parallelChunks(
