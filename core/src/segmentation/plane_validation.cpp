@@ -9,6 +9,7 @@
 
 #include "clearway/segmentation/planes.h"
 #include "parallel.h"
+#include "ring_support.h"
 #include "row_dilation.h"
 
 namespace clearway {
@@ -119,11 +120,13 @@ double crowdingAboutCells(const Scan& scan, const Plane& plane,
 
 // Returns the area of its largest connected supported area; with `local_inner_fraction`, also the
 // share of support within the inner half of the band about its own cell's mean distance; with
-// `segments`, the plane's area is kept near its own segments.
+// `segments`, the plane's area is kept near its own segments; with `rings` (a multi-beam frame),
+// cells between neighbouring rings that both support the plane are supported (ring_support.h).
 double buildSupportImage(const Scan& scan, const Plane& plane,
                          const std::vector<std::uint32_t>& support, const ValidationParams& params,
                          double growth_gap, double per_metre, SupportImage& image,
-                         double* local_inner_fraction, const std::vector<LineSegment>* segments) {
+                         double* local_inner_fraction, const std::vector<LineSegment>* segments,
+                         const detail::RingLayout& rings) {
   image.u_axis = plane.normal.unitOrthogonal();
   image.v_axis = plane.normal.cross(image.u_axis);
   image.cell = params.cell_size;
@@ -197,20 +200,35 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
         crowdingAboutCells(scan, plane, support, uv, cellOf, counts, params, per_metre);
   // Validation: the dense, connected part of the support, with thin strips (where a phantom
   // plane cuts real ones) opened away.
-  cv::Mat supported = counts >= params.min_cell_points;  // CV_8U, 255 where supported
-  cv::morphologyEx(supported, supported, cv::MORPH_OPEN,
-                   cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
-  cv::Mat labels, stats, centroids;
-  const int components =
-      cv::connectedComponentsWithStats(supported, labels, stats, centroids, 8, CV_32S);
   const double cell_area = params.cell_size * params.cell_size;
   const int min_cells = std::max(1, int(std::ceil(params.min_area / cell_area)));
+  cv::Mat supported, labels, stats, centroids;
   int largest = 0;
-  std::vector<std::uint8_t> real(std::size_t(components), 0);
-  for (int c = 1; c < components; ++c) {
-    const int area = stats.at<int>(c, cv::CC_STAT_AREA);
-    largest = std::max(largest, area);
-    real[std::size_t(c)] = area >= min_cells;
+  std::vector<std::uint8_t> real;
+  auto measure = [&] {
+    supported = counts >= params.min_cell_points;  // CV_8U, 255 where supported
+    cv::morphologyEx(supported, supported, cv::MORPH_OPEN,
+                     cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+    const int components =
+        cv::connectedComponentsWithStats(supported, labels, stats, centroids, 8, CV_32S);
+    largest = 0;
+    real.assign(std::size_t(components), 0);
+    for (int c = 1; c < components; ++c) {
+      const int area = stats.at<int>(c, cv::CC_STAT_AREA);
+      largest = std::max(largest, area);
+      real[std::size_t(c)] = area >= min_cells;
+    }
+  };
+  measure();
+  // A plane whose own returns are not enough to grow may be a surface seen by sparse rings, each
+  // a thin arc the opening took away: measured again with the cells between facing rings
+  // supported (ring_support.h). A plane that grows already spans its rings' gaps (below).
+  if (!rings.empty() && largest < kGrowthAreaFactor * min_cells) {
+    detail::supportBetweenRings(
+        scan, rings, plane, params.support_distance, per_metre, support, uv,
+        {centre, image.u_axis, image.v_axis, {u_min, v_min}, params.cell_size}, counts,
+        params.min_cell_points);
+    measure();
   }
 
   // Membership: for large planes, every supported cell reachable from a real area across gaps of
@@ -282,6 +300,9 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
   std::vector<SupportImage> images(candidates.size());
   std::vector<std::vector<std::uint32_t>> supports(candidates.size());
   const std::vector<PointBlock> blocks = pointBlocks(scan, threads);
+  const detail::RingLayout rings =
+      detail::ringLayout(scan, spread.rings_by_elevation, spread.ring_azimuth_step,
+                         params.cell_size, spread.growth_gap, threads);
   detail::parallelChunks(
       candidates.size(), threads,
       [&](std::size_t begin, std::size_t end, std::size_t) {
@@ -298,7 +319,7 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
                   : buildSupportImage(scan, plane, supports[k], params, spread.growth_gap,
                                       spread.support_per_metre, images[k],
                                       spread.local_crowding ? &local_inner : nullptr,
-                                      spread.own_segments);
+                                      spread.own_segments, rings);
           plane.support_area = area;
           plane.inner_fraction = supports[k].empty() ? 0.0
                                  : spread.local_crowding

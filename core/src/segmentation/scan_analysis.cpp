@@ -78,6 +78,14 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   spread.support_per_metre = multi_beam ? kRingSupportPerMetre : 0.0;
   spread.local_crowding = multi_beam;
   spread.own_segments = multi_beam ? &analysis.segments : nullptr;
+  if (multi_beam) {
+    const std::vector<double>& elevation = analysis.sensor.line_angle;
+    for (std::size_t line = 0; line < elevation.size(); ++line)
+      if (std::isfinite(elevation[line])) spread.rings_by_elevation.push_back(line);
+    std::sort(spread.rings_by_elevation.begin(), spread.rings_by_elevation.end(),
+              [&](std::size_t a, std::size_t b) { return elevation[a] < elevation[b]; });
+    spread.ring_azimuth_step = analysis.sensor.along_line_step;
+  }
   analysis.planes = validatePlanes(scan, std::move(candidates), params.validation, threads, spread);
   clock.stop("validation");
   reportProgress(progress, 0.8);

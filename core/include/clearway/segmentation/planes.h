@@ -102,6 +102,11 @@ struct SensorSpread {
   // growth_gap of its own segments: a plane fitted to a few multi-beam rings has a tilt known only
   // to their noise, and far from them it cuts the cars and kerbs it meets.
   const std::vector<LineSegment>* own_segments = nullptr;
+  // A multi-beam frame's rings (indices into scan.lines, lowest elevation first) and the azimuth
+  // step along them [rad]: where two neighbouring rings both support a plane at the same azimuth,
+  // the cells between them are supported too (src/segmentation/ring_support.h). Empty otherwise.
+  std::vector<std::size_t> rings_by_elevation;
+  double ring_azimuth_step = 0.0;
 };
 
 ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
