@@ -113,7 +113,11 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
                               " are no-returns or self hits");
   if (scan.lines.empty())
     reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
-  if (options.rings > 0 && scan.lines.size() != options.rings) recoverRings(scan, options.rings);
+  if (options.rings > 0 && scan.lines.size() != options.rings) {
+    const std::string why_not = recoverRings(scan, options.rings);
+    if (!why_not.empty())
+      throw ScanError(file, "--rings " + std::to_string(options.rings) + ": " + why_not);
+  }
   checkScanInvariants(scan);
   reportProgress(options.progress, 1.0);
   return scan;

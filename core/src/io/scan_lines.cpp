@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -147,8 +148,11 @@ void groupIntoRings(Scan& scan, const std::vector<int>& ring_of) {
     }
 }
 
-void recoverRings(Scan& scan, std::size_t rings) {
-  if (rings == 0 || scan.empty()) return;
+// With this many rings or more, one holding most returns means the recovery failed.
+constexpr std::size_t kFewestRingsJudged = 3;
+
+std::string recoverRings(Scan& scan, std::size_t rings) {
+  if (rings == 0 || scan.empty()) return {};
   // Elevation and azimuth of each point with a direction; no-returns go to the ring before them.
   std::vector<double> elevation(scan.size(), std::numeric_limits<double>::quiet_NaN());
   std::vector<double> azimuth(scan.size(), 0.0);
@@ -161,7 +165,7 @@ void recoverRings(Scan& scan, std::size_t rings) {
     azimuth[i] = std::atan2(double(p.y), double(p.x));
     sorted.push_back(elevation[i]);
   }
-  if (sorted.size() < rings) return;
+  if (sorted.size() < rings) return {};
   std::sort(sorted.begin(), sorted.end());
   // The rings are the clusters of elevation: cut at the rings - 1 widest gaps.
   std::vector<std::size_t> gap_order(sorted.size() - 1);
@@ -186,6 +190,20 @@ void recoverRings(Scan& scan, std::size_t rings) {
     last_ring = int(std::upper_bound(bounds.begin(), bounds.end(), elevation[i]) - bounds.begin());
     ring_of[i] = last_ring;
   }
+  // Seen from one point, the rings of a head whose lasers sit apart overlap in elevation (KITTI's
+  // HDL-64E: every pair of neighbours): the widest gaps then fall among a few stray returns, and
+  // one band takes nearly all of them. That is no recovery: say so rather than go on with it.
+  std::vector<std::size_t> per_ring(cuts + 1, 0);
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (!std::isnan(elevation[i])) ++per_ring[std::size_t(ring_of[i])];
+  const std::size_t fullest = *std::max_element(per_ring.begin(), per_ring.end());
+  if (rings >= kFewestRingsJudged && 2 * fullest > sorted.size())
+    return "the elevation angles do not fall into " + std::to_string(rings) +
+           " rings: one band holds " + std::to_string(fullest) + " of " +
+           std::to_string(sorted.size()) +
+           " returns (a multi-beam head's lasers sit apart on it, so its rings overlap in "
+           "elevation seen from one point); give the frame in its rings' order, one ring after "
+           "another, or with a PCD ring field";
   // Within a ring, points go in azimuth order (a ring is one turn of the head).
   std::vector<std::size_t> order(scan.size());
   for (std::size_t i = 0; i < order.size(); ++i)
@@ -205,6 +223,7 @@ void recoverRings(Scan& scan, std::size_t rings) {
       scan.lines.push_back({start, k - start});
       start = k;
     }
+  return {};
 }
 
 std::size_t markSaturatedRange(Scan& scan, double min_fraction) {

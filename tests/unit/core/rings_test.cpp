@@ -8,6 +8,8 @@
 #include <numbers>
 #include <random>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "clearway/io/scan_io.h"
 #include "clearway/io/scan_lines.h"
@@ -53,7 +55,7 @@ TEST(Rings, ShuffledFrameGetsItsRingsBackFromTheElevation) {
     }
   std::mt19937 random(3);
   std::shuffle(scan.points.begin(), scan.points.end(), random);
-  recoverRings(scan, kRings);
+  ASSERT_EQ(recoverRings(scan, kRings), "");
   ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
   for (std::size_t l = 0; l < scan.lines.size(); ++l) {
     EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing));
@@ -66,6 +68,36 @@ TEST(Rings, ShuffledFrameGetsItsRingsBackFromTheElevation) {
       EXPECT_LT(std::atan2(q.y, q.x), std::atan2(p.y, p.x));
     }
   }
+}
+
+// Rings that overlap in elevation (a head's lasers sit apart, so seen from one point each ring
+// spreads over more than the step between rings) and a few stray returns far above and below:
+// the widest gaps fall among the strays, one band takes nearly every return. Refused, with the
+// reason, and the scan left as it was.
+TEST(Rings, ARecoveryThatPutsMostReturnsInOneRingIsRefused) {
+  Scan scan;
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> spread(-1.5, 1.5);  // [deg], against 1 deg between rings
+  constexpr int kOverlapping = 8;
+  for (int r = 0; r < kOverlapping; ++r)
+    for (int k = 0; k < kPerRing; ++k) {
+      const double elevation = (-10.0 + r + spread(random)) * kDeg, azimuth = (k + 0.5) * kDeg;
+      scan.points.push_back({float(10.0 * std::cos(elevation) * std::cos(azimuth)),
+                             float(10.0 * std::cos(elevation) * std::sin(azimuth)),
+                             float(10.0 * std::sin(elevation))});
+      scan.status.push_back(PointStatus::kValid);
+    }
+  for (const double stray : {-60.0, -45.0, -30.0, 30.0, 45.0, 60.0, 75.0}) {
+    scan.points.push_back({float(std::cos(stray * kDeg)), 0.0F, float(std::sin(stray * kDeg))});
+    scan.status.push_back(PointStatus::kValid);
+  }
+  scan.lines = {{0, scan.size()}};
+  const std::vector<Point3f> before = scan.points;
+  const std::string why_not = recoverRings(scan, kOverlapping);
+  EXPECT_NE(why_not.find("do not fall into 8 rings"), std::string::npos) << why_not;
+  ASSERT_EQ(scan.lines.size(), 1U);
+  for (std::size_t i = 0; i < before.size(); ++i)
+    EXPECT_EQ(scan.points[i].z, before[i].z) << i;
 }
 
 TEST(Rings, APcdRingFieldMakesOneLinePerRing) {

@@ -4,6 +4,7 @@
 // (octomap scan.dat, PCL room scans, hannover .3d, KITTI). The sensor sits at the origin.
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 #include "clearway/scan.h"
@@ -23,8 +24,9 @@ void groupIntoRings(Scan& scan, const std::vector<int>& ring_of);
 
 // Multi-beam frames with a known number of rings but no usable order: each ring is a cluster of
 // elevation angles (cut at the `rings` - 1 widest gaps between sorted elevations), its points in
-// azimuth order. Points are reordered (lowest ring first); lines replaced.
-void recoverRings(Scan& scan, std::size_t rings);
+// azimuth order. Points are reordered (lowest ring first); lines replaced. Returns why not (the
+// scan unchanged) when the elevations do not fall into that many rings; empty on success.
+std::string recoverRings(Scan& scan, std::size_t rings);
 
 // Scanners that report "no echo" as their maximum range leave a crowd of points at exactly that
 // range. If at least `min_fraction` of the valid points lie within 0.1 % of the largest range,
