@@ -47,7 +47,8 @@ int runSegment(const std::vector<std::string>& words) {
     if (result.analysis->pose_source == PoseSource::kEstimated && result.trusted())
       std::cout << "up direction: estimated from the scan (confidence "
                 << result.analysis->up_confidence << ")\n";
-    if (!result.trusted()) std::cout << "reason: " << result.reason << "\n";
+    // With ground found, a reason says why nothing is green (too sparse, or fits nowhere).
+    if (!result.reason.empty()) std::cout << "reason: " << result.reason << "\n";
     std::cout << "planes: " << result.analysis->planes.planes.size() << " ("
               << result.analysis->candidate_planes
               << " candidates), segments: " << result.analysis->segments.size() << "\n";

@@ -51,8 +51,17 @@ std::string resultReason(const TraversabilityMap& map, const RobotParams& robot,
     return analysis.reason;
   const auto sparse =
       std::count(map.reasons.begin(), map.reasons.end(), std::uint8_t(CellReason::kSparse));
-  if (sparse == 0) return analysis.reason;
   std::ostringstream reason;
+  if (sparse == 0) {
+    // Ground was found, and no cell is green for a reason of the map's own: say which.
+    const std::size_t careful = map.counts[std::size_t(CellLabel::kCareful)] +
+                                map.counts[std::size_t(CellLabel::kObstacle)];
+    reason << "nothing traversable: the robot's box (" << robot.width << " x " << robot.length
+           << " m) fits with room to spare nowhere on the ground seen; unobserved gaps, obstacles "
+              "and steps cut it into patches smaller than the robot ("
+           << careful << " cells fit only with care)";
+    return reason.str();
+  }
   reason << "scan too sparse to show anything traversable: on " << sparse
          << " cells the ground samples are so far apart that an obstacle taller than the step ("
          << robot.max_step << " m) could hide between them (scan with more lines)";

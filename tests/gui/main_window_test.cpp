@@ -1,6 +1,7 @@
 // The operator console under QT_QPA_PLATFORM=offscreen: open, segment, change the robot, bad files,
 // cancel, close while working. Settings and paths are isolated (QStandardPaths test mode).
 
+#include <Eigen/Geometry>
 #include <QDoubleSpinBox>
 #include <QLabel>
 #include <QMessageBox>
@@ -10,6 +11,7 @@
 #include <QStandardPaths>
 #include <QTemporaryDir>
 #include <QtTest>
+#include <cmath>
 
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
@@ -39,12 +41,17 @@ int greenPixels(const QImage& image) {
   return count;
 }
 
-QString simulate(const QTemporaryDir& directory, const std::string& scene_name, int lines) {
+// The scene scanned with `lines` lines, the turntable's axis tilted by `tilt_deg` about x (as
+// `clearway-cli simulate --tilt` does).
+QString simulate(const QTemporaryDir& directory, const std::string& scene_name, int lines,
+                 double tilt_deg = 0.0) {
   const clearway::sim::Scene scene = *clearway::sim::builtinScene(scene_name);
   clearway::sim::SensorModel sensor;
   sensor.lines = lines;
-  const auto simulated =
-      clearway::sim::simulateRosi(scene, sensor, clearway::sim::defaultPlacement(scene));
+  clearway::sim::ScannerPlacement placement = clearway::sim::defaultPlacement(scene);
+  placement.axis =
+      Eigen::AngleAxisd(tilt_deg * M_PI / 180.0, Eigen::Vector3d::UnitX()) * placement.axis;
+  const auto simulated = clearway::sim::simulateRosi(scene, sensor, placement);
   const QString path = directory.filePath(QString::fromStdString(scene_name) + ".pcd");
   clearway::saveRosiPcd(simulated.scan, path.toStdString());
   return path;
@@ -104,6 +111,20 @@ class MainWindowTest : public QObject {
     auto* banner = window.findChild<QLabel*>("trustBanner");
     QVERIFY(banner->isVisible());
     QVERIFY(banner->text().contains("no ground"));
+    QCOMPARE(greenPixels(window.mapView()->image()), 0);
+  }
+
+  // Ground found, but nothing green: the banner says why (amber, not the untrusted red).
+  void aScanTooSparseForGreenSaysSoInTheBanner() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(simulate(directory_, "garage", 20, 25.0));
+    QVERIFY(shown.wait(kTimeoutMs));
+    QCOMPARE(shown.takeFirst().at(0).toBool(), true);
+    auto* banner = window.findChild<QLabel*>("trustBanner");
+    QVERIFY(banner->isVisible());
+    QVERIFY2(banner->text().contains("too sparse"), qPrintable(banner->text()));
     QCOMPARE(greenPixels(window.mapView()->image()), 0);
   }
 

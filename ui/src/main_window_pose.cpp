@@ -75,14 +75,16 @@ void MainWindow::updateTrustBanner() {
                             .arg(analysis.up_confidence, 0, 'f', 2));
     d_->trust_bar->setStyleSheet(kEstimatedStyle);
   } else {
+    // Untrusted: red. Trusted ground on which nothing is green (too sparse, or the robot fits
+    // nowhere): amber, with the map's reason.
     d_->banner->setText(
         tr("Nothing is shown as traversable: %1").arg(QString::fromStdString(result.reason)));
-    d_->trust_bar->setStyleSheet(kUntrustedStyle);
+    d_->trust_bar->setStyleSheet(result.trusted() ? kEstimatedStyle : kUntrustedStyle);
   }
   d_->confirm_up->setVisible(d_->withheld);
   d_->pick_floor->setVisible(no_pose);
   d_->type_pose->setVisible(no_pose || !result.trusted());
-  const bool show = d_->withheld || !result.trusted();
+  const bool show = d_->withheld || !result.trusted() || !result.reason.empty();
   d_->banner->setVisible(show);
   d_->trust_bar->setVisible(show);
   findChild<QAction*>("confirmUpAction")->setEnabled(d_->withheld);
