@@ -203,7 +203,7 @@ std::string recoverRings(Scan& scan, std::size_t rings) {
            std::to_string(sorted.size()) +
            " returns (a multi-beam head's lasers sit apart on it, so its rings overlap in "
            "elevation seen from one point); give the frame in its rings' order, one ring after "
-           "another, or with a PCD ring field";
+           "another (then --rings is not needed), or with a PCD ring field";
   // Within a ring, points go in azimuth order (a ring is one turn of the head).
   std::vector<std::size_t> order(scan.size());
   for (std::size_t i = 0; i < order.size(); ++i)
