@@ -35,8 +35,7 @@ constexpr int kVoxelKeyBits = 21;
 constexpr std::uint64_t kVoxelKeyMask = (std::uint64_t{1} << kVoxelKeyBits) - 1;
 
 bool drawnAsGround(CellLabel label) {
-  return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
-         label == CellLabel::kObstacle;
+  return robotFits(label);
 }
 
 // The drivable ground: the mesh's triangles at least two of whose corners lie on cells the robot

@@ -13,11 +13,6 @@
 namespace clearway::detail {
 namespace {
 
-bool fits(CellLabel label) {
-  return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
-         label == CellLabel::kObstacle;
-}
-
 // The cause worth naming is the one of more than this share of the causes around the reach.
 constexpr double kMostOf = 0.5;
 
@@ -52,7 +47,7 @@ std::string describeReachLimit(const TraversabilityMap& map, double box_reach_ce
         last_row = row;
         first_column = std::min(first_column, column);
         last_column = std::max(last_column, column);
-      } else if (fits(CellLabel(map.labels[cell]))) {
+      } else if (robotFits(CellLabel(map.labels[cell]))) {
         nearest_fit = std::min(nearest_fit, (grid.centre(column, row) - robot).norm());
       }
     }
@@ -78,7 +73,8 @@ std::string describeReachLimit(const TraversabilityMap& map, double box_reach_ce
     for (int x = 0; x < window.width; ++x) {
       const std::size_t cell = grid.index(window.x + x, window.y + y);
       const auto label = CellLabel(map.labels[cell]);
-      if (map.reach[cell] || fits(label) || distance.at<float>(y, x) > box_reach_cells) continue;
+      if (map.reach[cell] || robotFits(label) || distance.at<float>(y, x) > box_reach_cells)
+        continue;
       if (label == CellLabel::kUnknown) {
         ++unobserved;
       } else if (label == CellLabel::kStairs) {

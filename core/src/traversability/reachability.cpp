@@ -510,8 +510,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   }
   const std::size_t goal_cell = grid.index(goal.x(), goal.y());
   const CellLabel label = CellLabel(map.labels[goal_cell]);
-  const bool fits = label == CellLabel::kTraversable || label == CellLabel::kCareful ||
-                    label == CellLabel::kObstacle;
+  const bool fits = robotFits(label);
   if (map.reach.empty() || map.robot_orientation < 0) {
     result.reason = "the robot's own place is not on the map";
     return result;

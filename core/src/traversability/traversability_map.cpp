@@ -338,11 +338,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
       tasks.push_back(std::move(task));
   detail::parallelTasks(std::move(tasks), threads);
   if (has_sparse) {
-    auto fits = [](std::uint8_t label) {
-      return label == std::uint8_t(CellLabel::kTraversable) ||
-             label == std::uint8_t(CellLabel::kCareful) ||
-             label == std::uint8_t(CellLabel::kObstacle);
-    };
+    auto fits = [](std::uint8_t label) { return robotFits(CellLabel(label)); };
     for (std::size_t cell = 0; cell < cells; ++cell) {
       if (fits(map.labels[cell])) continue;  // fits on vouched-for ground
       if (fits(loose.labels[cell])) {
@@ -362,10 +358,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   reportProgress(progress, 0.8);
 
   for (std::size_t cell = 0; cell < cells; ++cell) {
-    const auto label = CellLabel(map.labels[cell]);
-    const bool fits = label == CellLabel::kTraversable || label == CellLabel::kCareful ||
-                      label == CellLabel::kObstacle;
-    if (fits && !map.reach[cell]) ++map.fits_not_reachable_cells;
+    if (robotFits(CellLabel(map.labels[cell])) && !map.reach[cell]) ++map.fits_not_reachable_cells;
   }
   map.reach_limit = detail::describeReachLimit(map, footprints.outer_radius);
   reportProgress(progress, 1.0);

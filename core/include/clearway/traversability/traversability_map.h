@@ -25,6 +25,12 @@ enum class CellLabel : std::uint8_t {
   kStairs = 5,       // stairs the robot can climb, with care (else impassable, kStairsTooSteep)
 };
 inline constexpr int kCellLabelCount = 6;
+// The robot's box fits on such a cell (green or orange): traversable, careful, or probably
+// passable (a low obstacle, or ground too sparse to vouch for).
+inline bool robotFits(CellLabel label) {
+  return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
+         label == CellLabel::kObstacle;
+}
 // TraversabilityMap::orientation of a cell where no orientation fits (orientations are bytes).
 inline constexpr std::uint8_t kNoOrientation = 255;
 
