@@ -111,8 +111,10 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
   if (scan.validCount() == 0)
     throw ScanError(file, "no valid points: all " + std::to_string(scan.size()) +
                               " are no-returns or self hits");
-  if (scan.lines.empty())
+  if (scan.lines.empty()) {
     reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
+    if (options.rings == 0) recoverFiringOrderRings(scan);
+  }
   if (options.rings > 0 && scan.lines.size() != options.rings) {
     const std::string why_not = recoverRings(scan, options.rings);
     if (!why_not.empty())

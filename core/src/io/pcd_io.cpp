@@ -116,11 +116,15 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
   }
 
   // Multi-beam drivers (Velodyne, Ouster) tag each point with its beam: one line per ring.
-  if (const pcl::PCLPointField* ring = findField(cloud, {"ring"}); ring && cloud.height <= 1) {
-    std::vector<int> ring_of(count);
+  const pcl::PCLPointField* ring = nullptr;
+  for (const char* name : kRingFieldNames)
+    if (!ring) ring = findField(cloud, {name});
+  if (ring && cloud.height <= 1) {
+    std::vector<double> ring_numbers(count);
     for (std::size_t i = 0; i < count; ++i)
-      ring_of[i] = int(readAsFloat(cloud.data.data() + i * cloud.point_step, *ring, 0));
-    groupIntoRings(scan, ring_of);
+      ring_numbers[i] = readAsFloat(cloud.data.data() + i * cloud.point_step, *ring, 0);
+    if (const std::string why_not = groupIntoRings(scan, ring_numbers); !why_not.empty())
+      throw ScanError(file, "PCD field '" + ring->name + "': " + why_not);
   }
   if (cloud.height > 1) {
     // Organised: one row per scan line, as the RoSi writes it.

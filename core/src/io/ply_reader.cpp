@@ -9,6 +9,7 @@
 
 #include "ascii_rows.h"
 #include "clearway/io/file_util.h"
+#include "clearway/io/scan_lines.h"
 #include "readers.h"
 
 namespace clearway::detail {
@@ -185,14 +186,19 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
   if (ix < 0 || iy < 0 || iz < 0) throw ScanError(file, "PLY vertices have no x, y, z");
   const int ii =
       propertyIndex(vertex, {"intensity", "scalar_intensity", "remission", "reflectance"});
+  int ir = -1;  // a multi-beam frame's ring number
+  for (const char* name : kRingFieldNames)
+    if (ir < 0) ir = propertyIndex(vertex, {name});
+  std::vector<double> ring_numbers;
 
   Scan scan;
   if (ii >= 0) scan.intensity.reserve(vertex.count);
+  if (ir >= 0) ring_numbers.reserve(vertex.count);
   if (header.format == PlyFormat::kAscii) {
     // Vertices come first in every PLY we meet; a scan with faces before vertices is not one.
     if (&vertex != &header.elements.front())
       throw ScanError(file, "PLY: elements before the vertices are not supported in ascii files");
-    if (vertex.properties.size() > 4 || ix > 3 || iy > 3 || iz > 3 || ii > 3) {
+    if (vertex.properties.size() > 4 || ix > 3 || iy > 3 || iz > 3 || ii > 3 || ir > 3) {
       // Rows with many columns: read them the slow, general way.
       std::istringstream body(bytes.substr(header.body_offset));
       std::vector<double> row(vertex.properties.size());
@@ -204,6 +210,7 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
         appendPoint(scan, float(row[std::size_t(ix)]), float(row[std::size_t(iy)]),
                     float(row[std::size_t(iz)]));
         if (ii >= 0) scan.intensity.push_back(float(row[std::size_t(ii)]));
+        if (ir >= 0) ring_numbers.push_back(row[std::size_t(ir)]);
       }
     } else {
       std::string_view body(bytes);
@@ -216,6 +223,7 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
             appendPoint(scan, float(v[std::size_t(ix)]), float(v[std::size_t(iy)]),
                         float(v[std::size_t(iz)]));
             if (ii >= 0) scan.intensity.push_back(float(v[std::size_t(ii)]));
+            if (ir >= 0) ring_numbers.push_back(v[std::size_t(ir)]);
           },
           options.progress);
       if (read < vertex.count)
@@ -254,8 +262,13 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
       const char* at = bytes.data() + offset + v * record;
       appendPoint(scan, float(value(at, ix)), float(value(at, iy)), float(value(at, iz)));
       if (ii >= 0) scan.intensity.push_back(float(value(at, ii)));
+      if (ir >= 0) ring_numbers.push_back(value(at, ir));
     }
   }
+  if (ir >= 0)
+    if (const std::string why_not = groupIntoRings(scan, ring_numbers); !why_not.empty())
+      throw ScanError(file,
+                      "PLY property '" + vertex.properties[std::size_t(ir)].name + "': " + why_not);
   scan.metadata.format = header.format == PlyFormat::kAscii ? "ply ascii" : "ply binary";
   scan.metadata.frame = "as stored: metres";
   return scan;

@@ -127,17 +127,25 @@ void reconstructScanLines(Scan& scan, double break_angle_rad) {
   scan.lines.push_back({line_start, scan.size() - line_start});
 }
 
-void groupIntoRings(Scan& scan, const std::vector<int>& ring_of) {
-  if (ring_of.size() != scan.size() || scan.empty()) return;
+std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) {
+  if (ring_numbers.size() != scan.size() || scan.empty()) return {};
+  // Ring fields are 8- or 16-bit unsigned in every driver's output.
+  constexpr double kHighestRingNumber = 65535.0;
+  for (std::size_t i = 0; i < ring_numbers.size(); ++i) {
+    const double value = ring_numbers[i];
+    if (!(value >= 0.0 && value <= kHighestRingNumber && value == std::floor(value)))
+      return "point " + std::to_string(i) + "'s ring number " + std::to_string(value) +
+             " is not a whole number from 0 to 65535";
+  }
   std::vector<std::size_t> order(scan.size());
   for (std::size_t i = 0; i < order.size(); ++i)
     order[i] = i;
   // Stable: a driver writes each ring in azimuth order, which is kept.
   std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return ring_of[a] < ring_of[b]; });
-  std::vector<int> rings_sorted(order.size());
+                   [&](std::size_t a, std::size_t b) { return ring_numbers[a] < ring_numbers[b]; });
+  std::vector<double> rings_sorted(order.size());
   for (std::size_t k = 0; k < order.size(); ++k)
-    rings_sorted[k] = ring_of[order[k]];
+    rings_sorted[k] = ring_numbers[order[k]];
   reorderPoints(scan, order);
   scan.lines.clear();
   std::size_t start = 0;
@@ -146,71 +154,75 @@ void groupIntoRings(Scan& scan, const std::vector<int>& ring_of) {
       scan.lines.push_back({start, k - start});
       start = k;
     }
+  return {};
 }
+
+namespace {
 
 // With this many rings or more, one holding most returns means the recovery failed.
 constexpr std::size_t kFewestRingsJudged = 3;
 
-std::string recoverRings(Scan& scan, std::size_t rings) {
-  if (rings == 0 || scan.empty()) return {};
-  // Elevation and azimuth of each point with a direction; no-returns go to the ring before them.
-  std::vector<double> elevation(scan.size(), std::numeric_limits<double>::quiet_NaN());
-  std::vector<double> azimuth(scan.size(), 0.0);
-  std::vector<double> sorted;
+// Each point's direction seen from the origin; NaN elevation for points without one (no-returns,
+// points at the origin), which go to the ring of the point before them.
+struct PointDirections {
+  std::vector<double> elevation, azimuth;
+  std::vector<double> sorted_elevations;  // of the points that have one
+};
+
+PointDirections pointDirections(const Scan& scan) {
+  PointDirections d;
+  d.elevation.assign(scan.size(), std::numeric_limits<double>::quiet_NaN());
+  d.azimuth.assign(scan.size(), 0.0);
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const Point3f& p = scan.points[i];
     const double horizontal = std::hypot(double(p.x), double(p.y));
     if (scan.status[i] == PointStatus::kNoReturn || horizontal + std::abs(p.z) <= 1e-6) continue;
-    elevation[i] = std::atan2(double(p.z), horizontal);
-    azimuth[i] = std::atan2(double(p.y), double(p.x));
-    sorted.push_back(elevation[i]);
+    d.elevation[i] = std::atan2(double(p.z), horizontal);
+    d.azimuth[i] = std::atan2(double(p.y), double(p.x));
+    d.sorted_elevations.push_back(d.elevation[i]);
   }
-  if (sorted.size() < rings) return {};
-  std::sort(sorted.begin(), sorted.end());
-  // The rings are the clusters of elevation: cut at the rings - 1 widest gaps.
-  std::vector<std::size_t> gap_order(sorted.size() - 1);
-  for (std::size_t k = 0; k < gap_order.size(); ++k)
-    gap_order[k] = k;
-  const std::size_t cuts = std::min(rings - 1, gap_order.size());
-  std::partial_sort(gap_order.begin(), gap_order.begin() + std::ptrdiff_t(cuts), gap_order.end(),
-                    [&](std::size_t a, std::size_t b) {
-                      return sorted[a + 1] - sorted[a] > sorted[b + 1] - sorted[b];
-                    });
-  std::vector<double> bounds;  // elevation midway across each cut
-  for (std::size_t k = 0; k < cuts; ++k)
-    bounds.push_back(0.5 * (sorted[gap_order[k]] + sorted[gap_order[k] + 1]));
-  std::sort(bounds.begin(), bounds.end());
+  std::sort(d.sorted_elevations.begin(), d.sorted_elevations.end());
+  return d;
+}
+
+// Puts each point in the ring whose elevation band holds it (`bounds`: the elevations between
+// rings, increasing), the rings lowest first, each in azimuth order (a ring is one turn of the
+// head). Returns why not, the scan unchanged, when one band takes most returns.
+std::string splitIntoRings(Scan& scan, const PointDirections& d,
+                           const std::vector<double>& bounds) {
+  const std::size_t rings = bounds.size() + 1;
   std::vector<int> ring_of(scan.size(), 0);
   int last_ring = 0;
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (std::isnan(elevation[i])) {
+    if (std::isnan(d.elevation[i])) {
       ring_of[i] = last_ring;
       continue;
     }
-    last_ring = int(std::upper_bound(bounds.begin(), bounds.end(), elevation[i]) - bounds.begin());
+    last_ring =
+        int(std::upper_bound(bounds.begin(), bounds.end(), d.elevation[i]) - bounds.begin());
     ring_of[i] = last_ring;
   }
   // Seen from one point, the rings of a head whose lasers sit apart overlap in elevation (KITTI's
   // HDL-64E: every pair of neighbours): the widest gaps then fall among a few stray returns, and
   // one band takes nearly all of them. That is no recovery: say so rather than go on with it.
-  std::vector<std::size_t> per_ring(cuts + 1, 0);
+  std::vector<std::size_t> per_ring(rings, 0);
   for (std::size_t i = 0; i < scan.size(); ++i)
-    if (!std::isnan(elevation[i])) ++per_ring[std::size_t(ring_of[i])];
+    if (!std::isnan(d.elevation[i])) ++per_ring[std::size_t(ring_of[i])];
   const std::size_t fullest = *std::max_element(per_ring.begin(), per_ring.end());
-  if (rings >= kFewestRingsJudged && 2 * fullest > sorted.size())
+  const std::size_t with_direction = d.sorted_elevations.size();
+  if (rings >= kFewestRingsJudged && 2 * fullest > with_direction)
     return "the elevation angles do not fall into " + std::to_string(rings) +
            " rings: one band holds " + std::to_string(fullest) + " of " +
-           std::to_string(sorted.size()) +
+           std::to_string(with_direction) +
            " returns (a multi-beam head's lasers sit apart on it, so its rings overlap in "
            "elevation seen from one point); give the frame in its rings' order, one ring after "
            "another (then --rings is not needed), or with a PCD ring field";
-  // Within a ring, points go in azimuth order (a ring is one turn of the head).
   std::vector<std::size_t> order(scan.size());
   for (std::size_t i = 0; i < order.size(); ++i)
     order[i] = i;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
     if (ring_of[a] != ring_of[b]) return ring_of[a] < ring_of[b];
-    return azimuth[a] < azimuth[b];
+    return d.azimuth[a] < d.azimuth[b];
   });
   std::vector<int> sorted_rings(order.size());
   for (std::size_t k = 0; k < order.size(); ++k)
@@ -224,6 +236,113 @@ std::string recoverRings(Scan& scan, std::size_t rings) {
       start = k;
     }
   return {};
+}
+
+// A firing-order frame is told from a RoSi's vertical fans by its narrow field of view: multi-beam
+// heads span 22.5 deg (Ouster OS2) to 45 deg (OS1) of elevation, a 2D scanner's fan 100 or 180 deg.
+constexpr double kWidestMultiBeamView = 50.0 * kPi / 180.0;
+// Heads have up to 128 lasers.
+constexpr std::size_t kMostLasers = 128;
+// Between neighbouring rings at least a third of a degree (an HDL-64E's upper block); within a
+// ring of lasers that share one centre, the elevations agree to float rounding. A gap this wide
+// in the sorted elevations separates two bands.
+constexpr double kBandGap = 0.1 * kPi / 180.0;
+// A band is a ring when it holds this share of the returns of an average ring or more (a top ring
+// that sees mostly sky keeps a few returns; a stray return between rings is no ring).
+constexpr double kSmallestRingShare = 0.05;
+// Firing after firing, at most this share of the returns follow one of their own band in the
+// file (a laser whose neighbour in the firing saw nothing, twice the same return).
+constexpr double kMostSameBandSuccessors = 0.1;
+// Successive pairs of returns looked at before the whole frame is.
+constexpr std::size_t kQuickLook = 4096;
+
+}  // namespace
+
+std::string recoverRings(Scan& scan, std::size_t rings) {
+  if (rings == 0 || scan.empty()) return {};
+  const PointDirections d = pointDirections(scan);
+  const std::vector<double>& sorted = d.sorted_elevations;
+  if (sorted.size() < rings) return {};
+  // The rings are the clusters of elevation: cut at the rings - 1 widest gaps.
+  std::vector<std::size_t> gap_order(sorted.size() - 1);
+  for (std::size_t k = 0; k < gap_order.size(); ++k)
+    gap_order[k] = k;
+  const std::size_t cuts = std::min(rings - 1, gap_order.size());
+  std::partial_sort(gap_order.begin(), gap_order.begin() + std::ptrdiff_t(cuts), gap_order.end(),
+                    [&](std::size_t a, std::size_t b) {
+                      return sorted[a + 1] - sorted[a] > sorted[b + 1] - sorted[b];
+                    });
+  std::vector<double> bounds;  // elevation midway across each cut
+  for (std::size_t k = 0; k < cuts; ++k)
+    bounds.push_back(0.5 * (sorted[gap_order[k]] + sorted[gap_order[k] + 1]));
+  std::sort(bounds.begin(), bounds.end());
+  return splitIntoRings(scan, d, bounds);
+}
+
+std::size_t recoverFiringOrderRings(Scan& scan) {
+  // A quick look first, as most frames are kept ring after ring or fan after fan: two successive
+  // returns this close in elevation are in one band, and too many such pairs among the first
+  // returns rule the frame out before every direction is computed.
+  std::size_t looked = 0, close = 0;
+  double previous = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t i = 0; i < scan.size() && looked < kQuickLook; ++i) {
+    const Point3f& p = scan.points[i];
+    const double horizontal = std::hypot(double(p.x), double(p.y));
+    if (scan.status[i] == PointStatus::kNoReturn || horizontal + std::abs(p.z) <= 1e-6) continue;
+    const double elevation = std::atan2(double(p.z), horizontal);
+    if (!std::isnan(previous)) {
+      ++looked;
+      close += std::abs(elevation - previous) <= kBandGap;
+    }
+    previous = elevation;
+  }
+  if (double(close) > kMostSameBandSuccessors * double(looked)) return 0;
+
+  const PointDirections d = pointDirections(scan);
+  const std::vector<double>& sorted = d.sorted_elevations;
+  if (sorted.size() < 2 * kMostLasers) return 0;
+  // Robust field of view: the 1st to the 99th percentile of the elevations.
+  const std::size_t percent = sorted.size() / 100;
+  if (sorted[sorted.size() - 1 - percent] - sorted[percent] > kWidestMultiBeamView) return 0;
+
+  // Bands of elevation; the bounds between rings lie midway across the gaps beside them.
+  struct Band {
+    double low, high;
+    std::size_t count;
+  };
+  std::vector<Band> bands{{sorted.front(), sorted.front(), 1}};
+  for (std::size_t k = 1; k < sorted.size(); ++k) {
+    if (sorted[k] - sorted[k - 1] > kBandGap) bands.push_back({sorted[k], sorted[k], 0});
+    bands.back().high = sorted[k];
+    ++bands.back().count;
+  }
+  const double average_band = double(sorted.size()) / double(bands.size());
+  std::vector<Band> rings;
+  for (const Band& band : bands)
+    if (double(band.count) >= kSmallestRingShare * average_band) rings.push_back(band);
+  if (rings.size() < 2 || rings.size() > kMostLasers) return 0;
+  std::vector<double> bounds;
+  for (std::size_t r = 1; r < rings.size(); ++r)
+    bounds.push_back(0.5 * (rings[r - 1].high + rings[r].low));
+
+  // Firing after firing, a return's successor in the file is another laser's, in another band.
+  // Ring after ring (KITTI) it is in the same band, and so it is where the bands are rings run
+  // together (lasers that sit apart on the head, seen from one point): no recovery then.
+  std::size_t pairs = 0, same_band = 0;
+  double previous_band = -1.0;
+  for (const double elevation : d.elevation) {
+    if (std::isnan(elevation)) continue;
+    const double band =
+        double(std::upper_bound(bounds.begin(), bounds.end(), elevation) - bounds.begin());
+    if (previous_band >= 0.0) {
+      ++pairs;
+      same_band += band == previous_band;
+    }
+    previous_band = band;
+  }
+  if (double(same_band) > kMostSameBandSuccessors * double(pairs)) return 0;
+  if (!splitIntoRings(scan, d, bounds).empty()) return 0;
+  return rings.size();
 }
 
 std::size_t markSaturatedRange(Scan& scan, double min_fraction) {

@@ -124,5 +124,96 @@ TEST(Rings, APcdRingFieldMakesOneLinePerRing) {
   EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
 }
 
+TEST(Rings, APlyLaserIdPropertyMakesOneLinePerRing) {
+  test::TemporaryDirectory directory;
+  std::ostringstream ply;
+  const int points = kRings * kPerRing;
+  // As VeloView exports a frame: firing after firing, each return tagged with its laser.
+  ply << "ply\nformat ascii 1.0\nelement vertex " << points
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float intensity\n"
+         "property ushort laser_id\nend_header\n";
+  for (int k = 0; k < kPerRing; ++k)
+    for (int r = 0; r < kRings; ++r) {
+      const Point3f p = ringPoint(r, k);
+      ply << p.x << ' ' << p.y << ' ' << p.z << " 7 " << r << '\n';
+    }
+  const auto file = directory / "rings.ply";
+  test::writeBytes(file, ply.str());
+  const Scan scan = loadScan(file);
+  ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
+  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
+    EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing));
+    const Point3f& p = scan.points[scan.lines[l].first];
+    EXPECT_NEAR(std::asin(p.z / 10.0) / kDeg, -10.0 + 5.0 * double(l), 1e-2);
+  }
+  EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
+}
+
+// A ring field that holds no ring numbers is a corrupt file, not a frame of thousands of rings.
+TEST(Rings, ARingFieldWithoutRingNumbersIsRefusedWithTheReason) {
+  test::TemporaryDirectory directory;
+  for (const char* bad : {"nan", "-1", "2.5", "70000"}) {
+    std::ostringstream pcd;
+    pcd << "VERSION 0.7\nFIELDS x y z ring\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+           "WIDTH 3\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 3\nDATA ascii\n"
+           "1 0 0 0\n0 1 0 1\n1 1 0 "
+        << bad << "\n";
+    const auto file = directory / "bad_ring.pcd";
+    test::writeBytes(file, pcd.str());
+    try {
+      loadScan(file);
+      ADD_FAILURE() << "ring " << bad << " was accepted";
+    } catch (const ScanError& error) {
+      EXPECT_NE(std::string(error.what()).find("ring number"), std::string::npos) << error.what();
+    }
+  }
+}
+
+// Firing after firing, one return of each ring per degree of azimuth in the order 2, 0, 3, 1
+// (interleaved, as a VLP-16 fires), a few returns of the top ring missing (sky): the columns
+// become rings again, each in azimuth order.
+TEST(Rings, AFrameInFiringOrderGetsItsRingsBackFromItsElevationBands) {
+  Scan scan;
+  std::size_t missing = 0;
+  for (int k = 0; k < kPerRing; ++k)
+    for (const int r : {2, 0, 3, 1}) {
+      if (r == 3 && k % 7 == 0) {
+        ++missing;
+        continue;
+      }
+      scan.points.push_back(ringPoint(r, k));
+      scan.status.push_back(PointStatus::kValid);
+    }
+  reconstructScanLines(scan, 20.0 * kDeg);
+  ASSERT_NE(scan.lines.size(), std::size_t(kRings));  // no rings, before
+  EXPECT_EQ(recoverFiringOrderRings(scan), std::size_t(kRings));
+  ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
+  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
+    EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing) - (l == 3 ? missing : 0));
+    for (std::size_t i = scan.lines[l].first; i < scan.lines[l].first + scan.lines[l].count; ++i)
+      EXPECT_NEAR(std::asin(scan.points[i].z / 10.0) / kDeg, -10.0 + 5.0 * double(l), 1e-3);
+  }
+  EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
+}
+
+// A 2D scanner's vertical fans (100 deg at 1 deg, the LMS200's narrow mode) turned about the
+// vertical: short lines too, at fixed elevations too, but over a field of view no multi-beam head
+// has. They stay fans.
+TEST(Rings, ARotatingScannersFansAreNotTakenForFirings) {
+  Scan scan;
+  for (int line = 0; line < 180; ++line)
+    for (int k = 0; k <= 100; ++k) {
+      const double elevation = (-50.0 + k) * kDeg, azimuth = 2.0 * line * kDeg;
+      scan.points.push_back({float(5.0 * std::cos(elevation) * std::cos(azimuth)),
+                             float(5.0 * std::cos(elevation) * std::sin(azimuth)),
+                             float(5.0 * std::sin(elevation))});
+      scan.status.push_back(PointStatus::kValid);
+    }
+  reconstructScanLines(scan, 20.0 * kDeg);
+  ASSERT_EQ(scan.lines.size(), 180U);
+  EXPECT_EQ(recoverFiringOrderRings(scan), 0U);
+  EXPECT_EQ(scan.lines.size(), 180U);
+}
+
 }  // namespace
 }  // namespace clearway

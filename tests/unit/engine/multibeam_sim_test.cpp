@@ -6,16 +6,22 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <iostream>
 #include <numbers>
 #include <random>
 #include <string>
+#include <tuple>
+#include <vector>
 
+#include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
 #include "clearway/sensor_geometry.h"
 #include "clearway/sim/ray_caster.h"
 #include "clearway/sim/scene.h"
+#include "test_support.h"
 
 namespace clearway {
 namespace {
@@ -75,35 +81,96 @@ struct SimulatedFrame {
   std::vector<int> primitive;  // per point, the primitive hit (-1: none)
 };
 
-// Ring after ring, as KITTI stores them; sensor frame (x forward, z up) at the scene's
-// (0, 0, kSensorHeight), with the frame's pose as a KITTI file gives it.
-SimulatedFrame simulateFrame(const sim::Scene& scene, const Head& head) {
+// The order a frame keeps its returns in: ring after ring, as KITTI stores them, or firing after
+// firing (one return of each laser per column of azimuth), as a driver sends them; a VLP-16 fires
+// its lasers interleaved (-15, 1, -13, 3, ... 15 deg), the others from the top down.
+enum class Order { kRingAfterRing, kFiringAfterFiring };
+
+// The ring the k-th laser of a firing belongs to (ring 0 the top one).
+int ringOfFiring(const Head& head, int k) {
+  if (head.rings != 16) return k;
+  const int elevation = k % 2 == 0 ? k - 15 : k;  // the VLP-16's interleaved firing
+  return (15 - elevation) / 2;
+}
+
+// Sensor frame (x forward, z up) at the scene's (0, 0, kSensorHeight), with the frame's pose as a
+// KITTI file gives it; no return where a beam meets nothing (the sky), as drivers drop them.
+SimulatedFrame simulateFrame(const sim::Scene& scene, const Head& head,
+                             Order order = Order::kRingAfterRing) {
   const sim::RayCaster caster(scene);
   const Eigen::Vector3d origin(0.0, 0.0, kSensorHeight);
   std::mt19937 random(64);
   std::normal_distribution<double> noise(0.0, kRangeNoise);
   SimulatedFrame frame;
-  for (int ring = 0; ring < head.rings; ++ring) {
+  auto cast = [&](int ring, int a) {
     const double elevation = (head.top_elevation - ring * head.ring_step) * kDeg;
-    ScanLine line;
-    line.first = frame.scan.points.size();
-    for (int a = 0; a < kAzimuths; ++a) {
-      const double azimuth = (a * 360.0 / kAzimuths - 180.0) * kDeg;
-      const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth),
-                                      std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
-      const auto hit = caster.cast(origin, direction, kMaxRange);
-      if (!hit) continue;  // sky: a KITTI frame keeps no return
-      const Eigen::Vector3d p = direction * (hit->distance + noise(random));
-      frame.scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
-      frame.scan.status.push_back(PointStatus::kValid);
-      frame.primitive.push_back(hit->primitive);
+    const double azimuth = (a * 360.0 / kAzimuths - 180.0) * kDeg;
+    const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth),
+                                    std::cos(elevation) * std::sin(azimuth), std::sin(elevation));
+    const auto hit = caster.cast(origin, direction, kMaxRange);
+    if (!hit) return;
+    const Eigen::Vector3d p = direction * (hit->distance + noise(random));
+    frame.scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
+    frame.scan.status.push_back(PointStatus::kValid);
+    frame.primitive.push_back(hit->primitive);
+  };
+  if (order == Order::kRingAfterRing) {
+    for (int ring = 0; ring < head.rings; ++ring) {
+      ScanLine line;
+      line.first = frame.scan.points.size();
+      for (int a = 0; a < kAzimuths; ++a)
+        cast(ring, a);
+      line.count = frame.scan.points.size() - line.first;
+      frame.scan.lines.push_back(line);
     }
-    line.count = frame.scan.points.size() - line.first;
-    frame.scan.lines.push_back(line);
+  } else {
+    for (int a = 0; a < kAzimuths; ++a)
+      for (int k = 0; k < head.rings; ++k)
+        cast(ringOfFiring(head, k), a);
   }
   frame.scan.sensor_pose = SensorPose{};
   frame.scan.pose_source = PoseSource::kFile;
   return frame;
+}
+
+// Road, pavement and the car's upper part: points, and those classed ground.
+struct StreetShares {
+  std::size_t road = 0, road_ground = 0, pavement = 0, pavement_ground = 0, car_high = 0,
+              car_high_ground = 0;
+};
+
+StreetShares countShares(const sim::Scene& scene, const Scan& scan,
+                         const std::vector<int>& primitive_of,
+                         const std::vector<PointClass>& point_classes) {
+  StreetShares shares;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const std::string& name = scene.primitives[std::size_t(primitive_of[i])].name;
+    const bool ground = point_classes[i] == PointClass::kGround;
+    const double height = scan.points[i].z + kSensorHeight;
+    if (name == "road") {
+      ++shares.road;
+      shares.road_ground += ground;
+    } else if (name == "pavement") {
+      ++shares.pavement;
+      shares.pavement_ground += ground;
+    } else if (name == "car" && height > 0.5) {
+      ++shares.car_high;
+      shares.car_high_ground += ground;
+    }
+  }
+  std::cout << "[ figures  ] road " << shares.road_ground << " of " << shares.road
+            << " ground, pavement " << shares.pavement_ground << " of " << shares.pavement
+            << ", car above 0.5 m " << shares.car_high_ground << " of " << shares.car_high << "\n";
+  return shares;
+}
+
+void expectStreetShares(const StreetShares& shares, const Head& head) {
+  ASSERT_GT(shares.road, 0u);
+  ASSERT_GT(shares.pavement, 0u);
+  ASSERT_GT(shares.car_high, 0u);
+  EXPECT_GE(double(shares.road_ground) / double(shares.road), head.road_share);
+  EXPECT_GE(double(shares.pavement_ground) / double(shares.pavement), 0.8);
+  EXPECT_EQ(shares.car_high_ground, 0u);
 }
 
 class MultiBeamStreet : public ::testing::TestWithParam<Head> {};
@@ -124,33 +191,54 @@ TEST_P(MultiBeamStreet, RoadAndPavementAreGroundTheCarIsNot) {
   EXPECT_NEAR(std::abs(reference.normal.z()), 1.0, 1e-3);
   EXPECT_NEAR(reference.offset, kSensorHeight, GetParam().height_tolerance);
 
-  // Per primitive: points, and those classed ground; the car's split at 0.5 m above the road.
-  std::size_t road = 0, road_ground = 0, pavement = 0, pavement_ground = 0, car_high = 0,
-              car_high_ground = 0;
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const std::string& name = scene.primitives[std::size_t(frame.primitive[i])].name;
-    const bool ground = result.point_classes[i] == PointClass::kGround;
-    const double height = scan.points[i].z + kSensorHeight;
-    if (name == "road") {
-      ++road;
-      road_ground += ground;
-    } else if (name == "pavement") {
-      ++pavement;
-      pavement_ground += ground;
-    } else if (name == "car" && height > 0.5) {
-      ++car_high;
-      car_high_ground += ground;
-    }
+  expectStreetShares(countShares(scene, scan, frame.primitive, result.point_classes), GetParam());
+}
+
+// The same street in firing order, saved without a ring field (an unorganised PCD of x, y, z, as a
+// driver's points are often exported): the loader sees columns of a few returns each, zig-zagging
+// in elevation for the VLP-16, and must give the frame its rings back, one line per ring.
+TEST_P(MultiBeamStreet, AFrameInFiringOrderWithoutARingFieldGetsItsRingsBack) {
+  const sim::Scene scene = street();
+  const SimulatedFrame frame = simulateFrame(scene, GetParam(), Order::kFiringAfterFiring);
+  test::TemporaryDirectory directory;
+  const auto file = directory / "firing.pcd";
+  {
+    std::ofstream pcd(file);
+    pcd << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH "
+        << frame.scan.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << frame.scan.size()
+        << "\nDATA binary\n";
+    pcd.write(reinterpret_cast<const char*>(frame.scan.points.data()),
+              std::streamsize(frame.scan.size() * sizeof(Point3f)));
   }
-  std::cout << "[ figures  ] road " << road_ground << " of " << road << " ground, pavement "
-            << pavement_ground << " of " << pavement << ", car above 0.5 m " << car_high_ground
-            << " of " << car_high << "\n";
-  ASSERT_GT(road, 0u);
-  ASSERT_GT(pavement, 0u);
-  ASSERT_GT(car_high, 0u);
-  EXPECT_GE(double(road_ground) / double(road), GetParam().road_share);
-  EXPECT_GE(double(pavement_ground) / double(pavement), 0.8);
-  EXPECT_EQ(car_high_ground, 0u);
+  Scan scan = loadScan(file);
+  ASSERT_EQ(scan.size(), frame.scan.size());
+  // Level and upright, as the ring-after-ring frame (a PCD's identity viewpoint says no pose).
+  scan.sensor_pose = SensorPose{};
+  scan.pose_source = PoseSource::kFile;
+  EXPECT_EQ(scan.lines.size(), std::size_t(GetParam().rings));
+  ASSERT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
+
+  // The loader reorders the points into rings: find each one's primitive again by position.
+  std::vector<std::size_t> order(frame.scan.size()), loaded(scan.size());
+  auto byPosition = [](const Scan& s) {
+    std::vector<std::size_t> index(s.size());
+    for (std::size_t i = 0; i < index.size(); ++i)
+      index[i] = i;
+    std::sort(index.begin(), index.end(), [&](std::size_t a, std::size_t b) {
+      const Point3f &p = s.points[a], &q = s.points[b];
+      return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+    });
+    return index;
+  };
+  order = byPosition(frame.scan);
+  loaded = byPosition(scan);
+  std::vector<int> primitive_of(scan.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    primitive_of[loaded[k]] = frame.primitive[order[k]];
+
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.analysis->reason;
+  expectStreetShares(countShares(scene, scan, primitive_of, result.point_classes), GetParam());
 }
 
 INSTANTIATE_TEST_SUITE_P(Heads, MultiBeamStreet, ::testing::ValuesIn(kHeads),
