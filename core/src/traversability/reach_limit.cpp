@@ -68,7 +68,7 @@ std::string describeReachLimit(const TraversabilityMap& map, double box_reach_ce
   // cells, or cells that block for a reason of their own (a wall, an overhang, a step, stairs).
   // Free cells where the box does not fit are not a cause: something of those is near them.
   std::size_t causes = 0, unobserved = 0, stairs = 0;
-  std::array<std::size_t, 8> blocked_by{};  // per CellReason
+  std::array<std::size_t, 9> blocked_by{};  // per CellReason
   for (int y = 0; y < window.height; ++y)
     for (int x = 0; x < window.width; ++x) {
       const std::size_t cell = grid.index(window.x + x, window.y + y);

@@ -17,6 +17,7 @@
 #include "footprints.h"
 #include "reach_limit.h"
 #include "reachability_search.h"
+#include "unseen_surroundings.h"
 
 namespace clearway {
 namespace {
@@ -227,6 +228,8 @@ std::string_view reasonName(CellReason reason) {
       return "stairs too steep";
     case CellReason::kSparse:
       return "too sparse";
+    case CellReason::kUnseenAround:
+      return "too little seen around it";
   }
   return "";
 }
@@ -352,6 +355,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
       map.orientation[cell] = loose.orientation[cell];
     }
   }
+  detail::markUnseenSurroundings(classes, footprints.outer_radius, map);
   labelStairs(analysis, robot, map);  // never green: climbable with care, or impassable
   for (std::uint8_t label : map.labels)
     ++map.counts[label];

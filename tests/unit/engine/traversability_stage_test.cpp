@@ -117,6 +117,25 @@ TEST(TraversabilityStage, AnUnobservedGapBesideAnObstacleIsNotReachedOver) {
       << describe(short_of);
 }
 
+// Where the box fits nowhere only because the cells around were not seen (the floor's edge, with
+// nothing standing there), nothing seen stops the robot: the cell is unknown, not red "too
+// narrow". Beside a wall it stays too narrow: what was seen may be what keeps the box out.
+TEST(TraversabilityStage, AFloorsUnseenEdgeIsUnknownNotTooNarrow) {
+  HandBuiltMap built(-3.0, -1.5, 6.0, 1.5);
+  built.floor(-2.75, -1.25, 5.75, 1.25).robotAt(-1.5, 0.0, 0.0);
+  built.face({1.0, 1.0}, {5.0, 1.0}, kWallLow, kWallHigh);
+  const TraversabilityMap map = mapOf(built);
+  const Cell at_the_edge = cellAt(map, 0.0, -1.2);
+  EXPECT_EQ(at_the_edge.label, CellLabel::kUnknown) << describe(at_the_edge);
+  EXPECT_EQ(at_the_edge.reason, CellReason::kUnseenAround) << describe(at_the_edge);
+  EXPECT_EQ(reasonName(at_the_edge.reason), "too little seen around it");
+  const Cell by_the_wall = cellAt(map, 3.0, 0.9);
+  EXPECT_EQ(by_the_wall.label, CellLabel::kImpassable) << describe(by_the_wall);
+  EXPECT_EQ(by_the_wall.reason, CellReason::kTooNarrow) << describe(by_the_wall);
+  // Open floor between them, unchanged.
+  EXPECT_EQ(cellAt(map, 0.0, 0.0).label, CellLabel::kTraversable);
+}
+
 TEST(TraversabilityStage, AWideCorridorIsGreen) {
   const TraversabilityMap map = mapOf(corridor(testRobot().width + 0.3));
   for (double x = kInsideFrom; x <= kInsideTo; x += 0.1)

@@ -40,12 +40,16 @@ enum class CellReason : std::uint8_t {
   kWall = 1,            // something stands in the way from the ground up
   kTooLow = 2,          // an overhang lower than the robot
   kTooSteep = 3,        // a step or drop higher than the robot can take
-  kTooNarrow = 4,       // free, but the robot's box does not fit in any orientation
+  kTooNarrow = 4,       // free, but something seen keeps the robot's box out in every orientation
   kOtherLevel = 5,      // a surface the robot cannot reach (a table top, a platform)
   kStairsTooSteep = 6,  // stairs whose risers or flight are steeper than the robot climbs
   // Orange, not green: the ground samples under the robot's box are so far apart that an obstacle
   // taller than the robot's step could stand between them unseen.
   kSparse = 7,
+  // Grey, not red: ground was seen here, but the robot's box fits in no orientation only because
+  // the cells around it were not seen (no blocking cell within the box's reach): nothing seen
+  // stops the robot, and nothing vouches for it.
+  kUnseenAround = 8,
 };
 std::string_view reasonName(CellReason reason);
 std::string_view labelName(CellLabel label);
