@@ -100,21 +100,8 @@ TEST(Rings, ARecoveryThatPutsMostReturnsInOneRingIsRefused) {
     EXPECT_EQ(scan.points[i].z, before[i].z) << i;
 }
 
-TEST(Rings, APcdRingFieldMakesOneLinePerRing) {
-  test::TemporaryDirectory directory;
-  std::ostringstream pcd;
-  const int points = kRings * kPerRing;
-  pcd << "VERSION 0.7\nFIELDS x y z ring\nSIZE 4 4 4 2\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH "
-      << points << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points << "\nDATA ascii\n";
-  // Interleaved as a driver writes them: one return of every ring per firing.
-  for (int k = 0; k < kPerRing; ++k)
-    for (int r = 0; r < kRings; ++r) {
-      const Point3f p = ringPoint(r, k);
-      pcd << p.x << ' ' << p.y << ' ' << p.z << ' ' << r << '\n';
-    }
-  const auto file = directory / "rings.pcd";
-  test::writeBytes(file, pcd.str());
-  const Scan scan = loadScan(file);
+// A frame of kRings rings of kPerRing returns, one line per ring, lowest first.
+void expectOneLinePerRing(const Scan& scan) {
   ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
   for (std::size_t l = 0; l < scan.lines.size(); ++l) {
     EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing));
@@ -122,6 +109,30 @@ TEST(Rings, APcdRingFieldMakesOneLinePerRing) {
     EXPECT_NEAR(std::asin(p.z / 10.0) / kDeg, -10.0 + 5.0 * double(l), 1e-2);
   }
   EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
+}
+
+// Text rows "x y z<between>ring", interleaved as a driver writes them: one return of every ring
+// per firing.
+std::string firingOrderRows(const char* between) {
+  std::ostringstream rows;
+  for (int k = 0; k < kPerRing; ++k)
+    for (int r = 0; r < kRings; ++r) {
+      const Point3f p = ringPoint(r, k);
+      rows << p.x << ' ' << p.y << ' ' << p.z << between << r << '\n';
+    }
+  return rows.str();
+}
+
+TEST(Rings, APcdRingFieldMakesOneLinePerRing) {
+  test::TemporaryDirectory directory;
+  std::ostringstream pcd;
+  const int points = kRings * kPerRing;
+  pcd << "VERSION 0.7\nFIELDS x y z ring\nSIZE 4 4 4 2\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH "
+      << points << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << points << "\nDATA ascii\n";
+  pcd << firingOrderRows(" ");
+  const auto file = directory / "rings.pcd";
+  test::writeBytes(file, pcd.str());
+  expectOneLinePerRing(loadScan(file));
 }
 
 TEST(Rings, APlyLaserIdPropertyMakesOneLinePerRing) {
@@ -132,21 +143,10 @@ TEST(Rings, APlyLaserIdPropertyMakesOneLinePerRing) {
   ply << "ply\nformat ascii 1.0\nelement vertex " << points
       << "\nproperty float x\nproperty float y\nproperty float z\nproperty float intensity\n"
          "property ushort laser_id\nend_header\n";
-  for (int k = 0; k < kPerRing; ++k)
-    for (int r = 0; r < kRings; ++r) {
-      const Point3f p = ringPoint(r, k);
-      ply << p.x << ' ' << p.y << ' ' << p.z << " 7 " << r << '\n';
-    }
+  ply << firingOrderRows(" 7 ");  // intensity 7
   const auto file = directory / "rings.ply";
   test::writeBytes(file, ply.str());
-  const Scan scan = loadScan(file);
-  ASSERT_EQ(scan.lines.size(), std::size_t(kRings));
-  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
-    EXPECT_EQ(scan.lines[l].count, std::size_t(kPerRing));
-    const Point3f& p = scan.points[scan.lines[l].first];
-    EXPECT_NEAR(std::asin(p.z / 10.0) / kDeg, -10.0 + 5.0 * double(l), 1e-2);
-  }
-  EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
+  expectOneLinePerRing(loadScan(file));
 }
 
 // A ring field that holds no ring numbers is a corrupt file, not a frame of thousands of rings.
