@@ -13,6 +13,7 @@
 #include <optional>
 
 #include "clearway/segmentation/scan_analysis.h"
+#include "face_returns.h"
 #include "ground_continuation.h"
 #include "ground_triangles.h"
 #include "parallel.h"
@@ -593,6 +594,8 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
       [&limit](std::size_t point) { return limit.maxEdgeSquared(point); });
   ground_of = std::move(continued.ground_of);
   limit.continued = std::move(continued.continued);
+  // Returns on a low box's face that joined the floor plane's band are the face, not the floor.
+  detail::dropFaceReturns(ground_of, scan, mapped.positions, limit.plane_heights);
 
   // Ground: the cells holding ground points, then those the ground triangles cover, then single
   // holes; the first to mark a cell sets its height.
