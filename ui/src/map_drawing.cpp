@@ -138,7 +138,7 @@ int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette) {
       {CellLabel::kObstacle, QObject::tr("low obstacle or too sparse")},
       {CellLabel::kImpassable, QObject::tr("impassable")},
       {CellLabel::kStairs, QObject::tr("stairs, with care")},
-      {CellLabel::kUnknown, QObject::tr("unobserved")}};
+      {CellLabel::kUnknown, QObject::tr("not seen enough")}};
   constexpr int kSwatch = 14, kRow = 18;
   painter.save();
   const int rows = int(std::size(entries)) + 1;
