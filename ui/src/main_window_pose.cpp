@@ -31,6 +31,17 @@ constexpr double kDegrees = 180.0 / M_PI;
 const char* const kEstimatedStyle = "QWidget#trustBar { background: #8d4a00; }";
 const char* const kUntrustedStyle = "QWidget#trustBar { background: #b71c1c; }";
 
+// The banner of a result on which nothing is green: the reason, after "Nothing is shown as
+// traversable" unless it says so itself ("scan too sparse to show anything traversable: ...",
+// "nothing traversable: ..."), where the prefix only repeated it.
+QString nothingGreenBanner(const std::string& reason) {
+  QString text = QString::fromStdString(reason);
+  if (!text.contains(QStringLiteral("traversable")))
+    return QObject::tr("Nothing is shown as traversable: %1").arg(text);
+  if (!text.isEmpty()) text[0] = text[0].toUpper();
+  return text;
+}
+
 }  // namespace
 
 std::shared_ptr<const PipelineResult> withholdTraversable(const PipelineResult& result) {
@@ -77,8 +88,7 @@ void MainWindow::updateTrustBanner() {
   } else {
     // Untrusted: red. Trusted ground on which nothing is green (too sparse, or the robot fits
     // nowhere): amber, with the map's reason.
-    d_->banner->setText(
-        tr("Nothing is shown as traversable: %1").arg(QString::fromStdString(result.reason)));
+    d_->banner->setText(nothingGreenBanner(result.reason));
     d_->trust_bar->setStyleSheet(result.trusted() ? kEstimatedStyle : kUntrustedStyle);
   }
   d_->confirm_up->setVisible(d_->withheld);

@@ -1,7 +1,6 @@
 #include "face_returns.h"
 
 #include <cmath>
-#include <limits>
 
 #include "clearway/segmentation/scan_analysis.h"
 
