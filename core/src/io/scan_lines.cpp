@@ -31,6 +31,13 @@ Direction directionOf(const Point3f& p) {
   return {std::atan2(double(p.y), double(p.x)), std::atan2(double(p.z), horizontal)};
 }
 
+// No-returns and points at the origin itself carry no direction.
+bool hasDirection(const Scan& scan, std::size_t i) {
+  const Point3f& p = scan.points[i];
+  return scan.status[i] != PointStatus::kNoReturn &&
+         std::hypot(double(p.x), double(p.y)) + std::abs(double(p.z)) > 1e-6;
+}
+
 double median(std::vector<double> values) {
   if (values.empty()) return 0.0;
   const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
@@ -57,6 +64,29 @@ void reorderPoints(Scan& scan, const std::vector<std::size_t>& order) {
   apply(scan.status);
   apply(scan.intensity);
   apply(scan.alpha);
+}
+
+// Puts the points in rings (`ring_of`, per point), the rings in increasing number, each in the
+// order the file keeps it or, with `azimuth` (per point), in azimuth order; one line per ring.
+void putInRings(Scan& scan, const std::vector<int>& ring_of, const std::vector<double>& azimuth) {
+  std::vector<std::size_t> order(scan.size());
+  for (std::size_t i = 0; i < order.size(); ++i)
+    order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (ring_of[a] != ring_of[b] || azimuth.empty()) return ring_of[a] < ring_of[b];
+    return azimuth[a] < azimuth[b];
+  });
+  std::vector<int> sorted_rings(order.size());
+  for (std::size_t k = 0; k < order.size(); ++k)
+    sorted_rings[k] = ring_of[order[k]];
+  reorderPoints(scan, order);
+  scan.lines.clear();
+  std::size_t start = 0;
+  for (std::size_t k = 1; k <= sorted_rings.size(); ++k)
+    if (k == sorted_rings.size() || sorted_rings[k] != sorted_rings[start]) {
+      scan.lines.push_back({start, k - start});
+      start = k;
+    }
 }
 
 }  // namespace
@@ -137,23 +167,8 @@ std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) 
       return "point " + std::to_string(i) + "'s ring number " + std::to_string(value) +
              " is not a whole number from 0 to 65535";
   }
-  std::vector<std::size_t> order(scan.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = i;
-  // Stable: a driver writes each ring in azimuth order, which is kept.
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return ring_numbers[a] < ring_numbers[b]; });
-  std::vector<double> rings_sorted(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    rings_sorted[k] = ring_numbers[order[k]];
-  reorderPoints(scan, order);
-  scan.lines.clear();
-  std::size_t start = 0;
-  for (std::size_t k = 1; k <= rings_sorted.size(); ++k)
-    if (k == rings_sorted.size() || rings_sorted[k] != rings_sorted[start]) {
-      scan.lines.push_back({start, k - start});
-      start = k;
-    }
+  // A driver writes each ring in azimuth order, which is kept.
+  putInRings(scan, std::vector<int>(ring_numbers.begin(), ring_numbers.end()), {});
   return {};
 }
 
@@ -174,11 +189,10 @@ PointDirections pointDirections(const Scan& scan) {
   d.elevation.assign(scan.size(), std::numeric_limits<double>::quiet_NaN());
   d.azimuth.assign(scan.size(), 0.0);
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    const Point3f& p = scan.points[i];
-    const double horizontal = std::hypot(double(p.x), double(p.y));
-    if (scan.status[i] == PointStatus::kNoReturn || horizontal + std::abs(p.z) <= 1e-6) continue;
-    d.elevation[i] = std::atan2(double(p.z), horizontal);
-    d.azimuth[i] = std::atan2(double(p.y), double(p.x));
+    if (!hasDirection(scan, i)) continue;
+    const Direction direction = directionOf(scan.points[i]);
+    d.elevation[i] = direction.elevation;
+    d.azimuth[i] = direction.azimuth;
     d.sorted_elevations.push_back(d.elevation[i]);
   }
   std::sort(d.sorted_elevations.begin(), d.sorted_elevations.end());
@@ -217,24 +231,7 @@ std::string splitIntoRings(Scan& scan, const PointDirections& d,
            " returns (a multi-beam head's lasers sit apart on it, so its rings overlap in "
            "elevation seen from one point); give the frame in its rings' order, one ring after "
            "another (then --rings is not needed), or with a PCD ring field";
-  std::vector<std::size_t> order(scan.size());
-  for (std::size_t i = 0; i < order.size(); ++i)
-    order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    if (ring_of[a] != ring_of[b]) return ring_of[a] < ring_of[b];
-    return d.azimuth[a] < d.azimuth[b];
-  });
-  std::vector<int> sorted_rings(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    sorted_rings[k] = ring_of[order[k]];
-  reorderPoints(scan, order);
-  scan.lines.clear();
-  std::size_t start = 0;
-  for (std::size_t k = 1; k <= sorted_rings.size(); ++k)
-    if (k == sorted_rings.size() || sorted_rings[k] != sorted_rings[start]) {
-      scan.lines.push_back({start, k - start});
-      start = k;
-    }
+  putInRings(scan, ring_of, d.azimuth);
   return {};
 }
 
@@ -286,10 +283,8 @@ std::size_t recoverFiringOrderRings(Scan& scan) {
   std::size_t looked = 0, close = 0;
   double previous = std::numeric_limits<double>::quiet_NaN();
   for (std::size_t i = 0; i < scan.size() && looked < kQuickLook; ++i) {
-    const Point3f& p = scan.points[i];
-    const double horizontal = std::hypot(double(p.x), double(p.y));
-    if (scan.status[i] == PointStatus::kNoReturn || horizontal + std::abs(p.z) <= 1e-6) continue;
-    const double elevation = std::atan2(double(p.z), horizontal);
+    if (!hasDirection(scan, i)) continue;
+    const double elevation = directionOf(scan.points[i]).elevation;
     if (!std::isnan(previous)) {
       ++looked;
       close += std::abs(elevation - previous) <= kBandGap;
@@ -329,12 +324,12 @@ std::size_t recoverFiringOrderRings(Scan& scan) {
   // Ring after ring (KITTI) it is in the same band, and so it is where the bands are rings run
   // together (lasers that sit apart on the head, seen from one point): no recovery then.
   std::size_t pairs = 0, same_band = 0;
-  double previous_band = -1.0;
+  std::ptrdiff_t previous_band = -1;
   for (const double elevation : d.elevation) {
     if (std::isnan(elevation)) continue;
-    const double band =
-        double(std::upper_bound(bounds.begin(), bounds.end(), elevation) - bounds.begin());
-    if (previous_band >= 0.0) {
+    const std::ptrdiff_t band =
+        std::upper_bound(bounds.begin(), bounds.end(), elevation) - bounds.begin();
+    if (previous_band >= 0) {
       ++pairs;
       same_band += band == previous_band;
     }

@@ -3,9 +3,25 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <vector>
+#include <opencv2/core/mat.hpp>
+
+#include "../segmentation/row_dilation.h"
 
 namespace clearway::detail {
+namespace {
+
+// The cells whose centres lie within `radius` cells of the middle one: each row a run centred on
+// it, as dilateByCentredRows takes them (OpenCV's ellipse element reaches a little beyond).
+cv::Mat diskElement(int radius) {
+  cv::Mat disk = cv::Mat::zeros(2 * radius + 1, 2 * radius + 1, CV_8UC1);
+  for (int dy = -radius; dy <= radius; ++dy) {
+    const int half = int(std::floor(std::sqrt(double(radius * radius - dy * dy))));
+    disk.row(dy + radius).colRange(radius - half, radius + half + 1).setTo(255);
+  }
+  return disk;
+}
+
+}  // namespace
 
 void markUnseenSurroundings(const CellClasses& classes, double box_reach_cells,
                             TraversabilityMap& map) {
@@ -14,61 +30,25 @@ void markUnseenSurroundings(const CellClasses& classes, double box_reach_cells,
     return map.labels[cell] == std::uint8_t(CellLabel::kImpassable) &&
            map.reasons[cell] == std::uint8_t(CellReason::kTooNarrow);
   };
-  if (std::none_of(map.labels.begin(), map.labels.end(), [](std::uint8_t label) {
-        return label == std::uint8_t(CellLabel::kImpassable);
-      }))
-    return;
+  bool any = false;
+  for (std::size_t cell = 0; cell < map.labels.size() && !any; ++cell)
+    any = too_narrow(cell);
+  if (!any) return;
 
-  // One cell more than the reach: a blocked cell whose corner is within reach must count.
-  const int radius = int(std::ceil(box_reach_cells)) + 1;
-  // Each cell's distance along its row to the nearest blocked cell, capped past the radius: a
-  // disk around a cell holds a blocked cell when, in some row dy of it, that distance is within
-  // the disk's half-width there.
-  const auto far = std::uint16_t(radius + 1);
-  std::vector<std::uint16_t> along_row(grid.cells(), far);
+  cv::Mat blocked(grid.height, grid.width, CV_8UC1);
   for (int row = 0; row < grid.height; ++row) {
-    std::uint16_t* distance = along_row.data() + grid.index(0, row);
-    const CellState* state = classes.state.data() + grid.index(0, row);
-    std::uint16_t since = far;
-    for (int column = 0; column < grid.width; ++column) {
-      since =
-          state[column] == CellState::kBlocked ? 0 : std::uint16_t(std::min<int>(since + 1, far));
-      distance[column] = since;
-    }
-    since = far;
-    for (int column = grid.width - 1; column >= 0; --column) {
-      since =
-          state[column] == CellState::kBlocked ? 0 : std::uint16_t(std::min<int>(since + 1, far));
-      distance[column] = std::min(distance[column], since);
-    }
+    auto* out = blocked.ptr<std::uint8_t>(row);
+    for (int column = 0; column < grid.width; ++column)
+      out[column] = classes.state[grid.index(column, row)] == CellState::kBlocked ? 255 : 0;
   }
-  std::vector<int> half_width(std::size_t(2 * radius + 1));
-  for (int dy = -radius; dy <= radius; ++dy)
-    half_width[std::size_t(dy + radius)] =
-        int(std::floor(std::sqrt(double(radius * radius - dy * dy))));
-
-  // Row by row, every column at once (the compiler vectorises the comparisons), and only rows
-  // that hold a too-narrow cell.
-  // 16-bit like the distances, so that the comparisons pack into vector lanes unconverted.
-  std::vector<std::uint16_t> near_blocked(std::size_t(grid.width));
+  // One cell more than the reach: a blocked cell whose corner is within reach must count.
+  cv::Mat near_blocked;
+  dilateByCentredRows(blocked, near_blocked, diskElement(int(std::ceil(box_reach_cells)) + 1));
   for (int row = 0; row < grid.height; ++row) {
-    const std::size_t first = grid.index(0, row);
-    bool any = false;
-    for (int column = 0; column < grid.width && !any; ++column)
-      any = too_narrow(first + std::size_t(column));
-    if (!any) continue;
-    std::fill(near_blocked.begin(), near_blocked.end(), std::uint16_t{0});
-    for (int dy = -radius; dy <= radius; ++dy) {
-      if (row + dy < 0 || row + dy >= grid.height) continue;
-      const std::uint16_t* distance = along_row.data() + grid.index(0, row + dy);
-      const auto half = std::uint16_t(half_width[std::size_t(dy + radius)]);
-      std::uint16_t* near = near_blocked.data();
-      for (int column = 0; column < grid.width; ++column)
-        near[column] |= std::uint16_t(distance[column] <= half);
-    }
+    const auto* near = near_blocked.ptr<std::uint8_t>(row);
     for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = first + std::size_t(column);
-      if (near_blocked[std::size_t(column)] || !too_narrow(cell)) continue;
+      const std::size_t cell = grid.index(column, row);
+      if (near[column] || !too_narrow(cell)) continue;
       map.labels[cell] = std::uint8_t(CellLabel::kUnknown);
       map.reasons[cell] = std::uint8_t(CellReason::kUnseenAround);
     }
