@@ -30,6 +30,25 @@ std::size_t partner(const ScanLine& from, const ScanLine& to, std::size_t k) {
   return to.first + std::min(scaled, to.count - 1);
 }
 
+// Each ring's unwrapped azimuth starts where its first return points, in (-pi, pi]: a ring that
+// starts just past the back (+179.9 deg) and its neighbour that starts just before it (-179.9 deg)
+// would lie a whole turn apart, and no return of one would find its partner on the other. Each
+// ring is moved by whole turns to start within half a turn of the ring before it.
+void alignRingStarts(std::vector<double>& along, const std::vector<ScanLine>& rings) {
+  const ScanLine* previous = nullptr;
+  for (const ScanLine& ring : rings) {
+    if (ring.count == 0) continue;
+    if (previous) {
+      const double start = along[ring.first];
+      const double turns = std::round((along[previous->first] - start) / (2.0 * kPi));
+      if (turns != 0.0)
+        for (std::size_t i = ring.first; i < ring.first + ring.count; ++i)
+          along[i] += turns * 2.0 * kPi;
+    }
+    previous = &ring;
+  }
+}
+
 // The angle that runs along each line, per point: elevation along a rotating scanner's fans, seen
 // from `lift` up the turntable axis, azimuth (unwrapped) along a multi-beam ring; ordered along
 // the line. Points without a direction take their predecessor's. An arc tangent per point, so
@@ -73,6 +92,7 @@ std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double li
                            for (std::size_t l = begin; l < end; ++l)
                              alongLine(scan.lines[l]);
                          });
+  if (multi_beam) alignRingStarts(along, scan.lines);
   return along;
 }
 
@@ -409,7 +429,9 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   if (!along.empty() && !multi_beam && !elevation_fans && scanner_height < kElevationHeight)
     along.clear();
   const Fans fans = elevation_fans ? fansOf(scan, sensor, along) : fansOf(scan, sensor, {});
-  if (elevation_fans)
+  // Along a ring too: a return a little out of azimuth order (a frame corrected for the
+  // vehicle's motion steps back up to a degree) would hold the walk on it for the rest of the ring.
+  if (elevation_fans || (multi_beam && !along.empty()))
     for (const ScanLine& fan : fans.lines)
       holdDips(along, fan);
   // Lines side by side: in the order of their angle (file order when the sensor's geometry is

@@ -241,6 +241,78 @@ TEST_P(MultiBeamStreet, AFrameInFiringOrderWithoutARingFieldGetsItsRingsBack) {
   expectStreetShares(countShares(scene, scan, primitive_of, result.point_classes), GetParam());
 }
 
+// The same rings, each with its returns in another order: starting where the frame was cut (a
+// KITTI file's rings start ahead, a driver's behind the sensor), turning the other way, starting
+// on either side of the back (+179.9 and -179.9 deg on neighbouring rings), and with returns a
+// step or three out of azimuth order, as a frame corrected for the vehicle's motion holds them.
+enum class RingStart { kBehind, kAhead, kClockwise, kEitherSideOfTheBack, kOutOfOrder };
+
+Scan withRingsStarting(const Scan& frame, RingStart start) {
+  Scan scan = frame;
+  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
+    const ScanLine& ring = scan.lines[l];
+    const auto first = scan.points.begin() + std::ptrdiff_t(ring.first);
+    const auto end = first + std::ptrdiff_t(ring.count);
+    switch (start) {
+      case RingStart::kBehind:
+        break;
+      case RingStart::kAhead:
+        std::rotate(first, first + std::ptrdiff_t(ring.count / 2), end);
+        break;
+      case RingStart::kClockwise:
+        std::reverse(first, end);
+        break;
+      case RingStart::kEitherSideOfTheBack:
+        if (l % 2 == 0) std::rotate(first, end - 1, end);
+        break;
+      case RingStart::kOutOfOrder:
+        // Not at the same places on every ring: the walk would find the same order on both.
+        for (std::size_t k = 40 + 13 * l % 97; k + 3 < ring.count; k += 97)
+          std::swap(first[std::ptrdiff_t(k)], first[std::ptrdiff_t(k + 3)]);
+        break;
+    }
+  }
+  return scan;
+}
+
+// The points' order within a ring says nothing about the street: the map must not change with it.
+// KITTI's stored order (rings starting ahead, returns out of order by up to 0.7 deg) showed 18,128
+// traversable cells on 000002.bin, against 80,094 with the same rings sorted by azimuth: the walk
+// that pairs neighbouring rings stopped at the first return out of order and joined no ground
+// beyond it.
+TEST(MultiBeamStreetMap, DoesNotDependOnWhereOrWhichWayItsRingsStart) {
+  const Head& head = kHeads[0];
+  const SimulatedFrame frame = simulateFrame(street(), head);
+  const PipelineResult reference = runPipeline(frame.scan, SegmentationParams{});
+  ASSERT_TRUE(reference.trusted()) << reference.analysis->reason;
+  const auto traversable = std::count(reference.map.labels.begin(), reference.map.labels.end(),
+                                      std::uint8_t(CellLabel::kTraversable));
+  ASSERT_GT(traversable, 10000);
+  for (const RingStart start : {RingStart::kAhead, RingStart::kClockwise,
+                                RingStart::kEitherSideOfTheBack, RingStart::kOutOfOrder}) {
+    const PipelineResult result =
+        runPipeline(withRingsStarting(frame.scan, start), SegmentationParams{});
+    ASSERT_TRUE(result.trusted()) << result.analysis->reason;
+    // The grids cover the ground seen, a few points more or less: cells are compared where they
+    // lie, each reference cell with the one holding its centre (off the grid: unknown).
+    const MapGrid& grid = reference.map.grid;
+    std::size_t differing = 0;
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column) {
+        const Eigen::Vector2d centre = grid.centre(column, row);
+        const Eigen::Vector2i there = result.map.grid.cellOf(centre.x(), centre.y());
+        const CellLabel label = result.map.grid.inside(there.x(), there.y())
+                                    ? result.map.label(there.x(), there.y())
+                                    : CellLabel::kUnknown;
+        differing += label != reference.map.label(column, row);
+      }
+    std::cout << "[ figures  ] ring start " << int(start) << ": " << differing << " of "
+              << reference.map.labels.size() << " cells differ (" << traversable
+              << " traversable)\n";
+    EXPECT_LE(double(differing), 0.02 * double(traversable)) << "ring start " << int(start);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Heads, MultiBeamStreet, ::testing::ValuesIn(kHeads),
                          [](const ::testing::TestParamInfo<Head>& head) {
                            return std::string(head.param.name);
