@@ -319,7 +319,10 @@ struct OpenFloorFigures {
 // 0.1 m of the local ground) in every 0.3 m square whose centre lies in it, and no point between
 // 0.1 m and the robot's height above the local ground. Measured in the scan frame (z up: the
 // Hannover poses only turn about the vertical).
-OpenFloorFigures measureOpenFloor(const Scan& scan, const PipelineResult& result) {
+// With `within_map`, only positions on the map's grid count (a multi-beam frame's map stops where
+// its rings vouch for the ground, 14 m out, and the frame reaches 80 m).
+OpenFloorFigures measureOpenFloor(const Scan& scan, const PipelineResult& result,
+                                  bool within_map = false) {
   const RobotParams robot;
   const double radius = std::hypot(robot.width, robot.length) / 2;
   const LocalGround ground(scan);
@@ -349,7 +352,23 @@ OpenFloorFigures measureOpenFloor(const Scan& scan, const PipelineResult& result
   };
 
   OpenFloorFigures figures;
-  const Bounds bounds = validBounds(scan);
+  Bounds bounds = validBounds(scan);
+  if (within_map) {
+    // The grid's corners in the scan frame (the map frame only turns about the vertical here).
+    const Eigen::Isometry3d scanner_from_map = map_from_scanner.inverse();
+    Eigen::AlignedBox2d box;
+    for (const double fx : {0.0, 1.0})
+      for (const double fy : {0.0, 1.0}) {
+        const Eigen::Vector2d corner =
+            map.grid.origin + map.grid.resolution * Eigen::Vector2d(fx * map.grid.width,
+                                                                    fy * map.grid.height);
+        box.extend((scanner_from_map * Eigen::Vector3d(corner.x(), corner.y(), 0.0)).head<2>());
+      }
+    bounds.min.x = float(std::max(double(bounds.min.x), box.min().x()));
+    bounds.min.y = float(std::max(double(bounds.min.y), box.min().y()));
+    bounds.max.x = float(std::min(double(bounds.max.x), box.max().x()));
+    bounds.max.y = float(std::min(double(bounds.max.y), box.max().y()));
+  }
   const int floor_reach = int(std::ceil(radius / kFloorSquare)) + 1;
   const int obstacle_reach = int(std::ceil(radius / kObstacleSquare)) + 1;
   for (double y = bounds.min.y; y <= bounds.max.y; y += 0.1)
@@ -415,6 +434,27 @@ TEST_P(HannoverScan, OpenFloorIsShownAndNothingGreenStandsOnAnObstacle) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Hannover, HannoverScan, ::testing::Values("scan100.3d", "scan440.3d"));
+
+// The road's open floor is shown, as the Hannover scans' is: on KITTI's 000002.bin as stored
+// (rings starting ahead, returns out of azimuth order) the map showed 18,128 traversable cells
+// against 80,094 with the same rings sorted by azimuth, the rings paired no further than the first
+// return out of order (0.41 and 0.50 of the open floor shown then, 0.86 and 0.95 since).
+TEST_P(KittiFrame, OpenRoadIsShownAndNothingGreenStandsOnAnObstacle) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("kitti/") + GetParam());
+  const Scan scan = loadScan(file);
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.reason;
+  const OpenFloorFigures figures = measureOpenFloor(scan, result, true);
+  const double shown =
+      double(figures.shown) / double(std::max<std::size_t>(figures.open_positions, 1));
+  std::cout << "[ figures  ] " << GetParam() << ": " << figures.shown << " of "
+            << figures.open_positions << " open-floor positions on the map shown green or orange ("
+            << shown << "), " << figures.green_over_obstacle
+            << " green cells with a point 0.3-1.5 m above the local ground\n";
+  EXPECT_GT(figures.open_positions, 1000u);
+  EXPECT_GE(shown, 0.80);
+  EXPECT_EQ(figures.green_over_obstacle, 0u);
+}
 
 // ---- A file like Hannover's, built by hand: origin on the ground, fans run together ----
 
