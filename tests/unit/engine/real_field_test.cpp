@@ -360,8 +360,8 @@ OpenFloorFigures measureOpenFloor(const Scan& scan, const PipelineResult& result
     for (const double fx : {0.0, 1.0})
       for (const double fy : {0.0, 1.0}) {
         const Eigen::Vector2d corner =
-            map.grid.origin + map.grid.resolution * Eigen::Vector2d(fx * map.grid.width,
-                                                                    fy * map.grid.height);
+            map.grid.origin +
+            map.grid.resolution * Eigen::Vector2d(fx * map.grid.width, fy * map.grid.height);
         box.extend((scanner_from_map * Eigen::Vector3d(corner.x(), corner.y(), 0.0)).head<2>());
       }
     bounds.min.x = float(std::max(double(bounds.min.x), box.min().x()));
