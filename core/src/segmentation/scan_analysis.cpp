@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include "clearway/segmentation/up_estimation.h"
 #include "clearway/traversability/ground_density.h"
+#include "ring_ground.h"
 
 namespace clearway {
 namespace {
@@ -127,6 +129,15 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   if (multi_beam) {
     absorbGroundPatches(scan, params.validation, spread, analysis);
     dropUnreachableGround(scan, params.robot.max_step, params.robot.width, analysis);
+    if (analysis.ground_found) {
+      detail::OutwardGroundLimits limits;
+      limits.off_plane = params.robot.max_step;
+      limits.per_metre = kRingSupportPerMetre;
+      limits.max_slope = std::tan(params.ground.max_slope_deg * std::numbers::pi / 180.0);
+      detail::followGroundOutward(scan, spread.rings_by_elevation, spread.ring_azimuth_step,
+                                  analysis.planes.planes, analysis.ground_planes, limits,
+                                  analysis.planes.point_plane, threads);
+    }
   }
   clock.stop("ground");
   reportProgress(progress, 0.85);
