@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <string>
 #include <type_traits>
@@ -167,8 +168,29 @@ std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) 
       return "point " + std::to_string(i) + "'s ring number " + std::to_string(value) +
              " is not a whole number from 0 to 65535";
   }
-  // A driver writes each ring in azimuth order, which is kept.
-  putInRings(scan, std::vector<int>(ring_numbers.begin(), ring_numbers.end()), {});
+  // Neighbouring lines must be neighbouring rings: the ground is triangulated and planes are
+  // grown between them. A ROS driver numbers its rings by elevation, but VeloView's laser_id is
+  // the firing order (a VLP-16's laser 0 looks 15 deg down, laser 1 one up, laser 2 13 down):
+  // the rings go in order of their median elevation, lowest first. A driver writes each ring in
+  // azimuth order, which is kept.
+  std::map<int, std::vector<double>> elevations;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    std::vector<double>& ring = elevations[int(ring_numbers[i])];
+    if (hasDirection(scan, i)) ring.push_back(directionOf(scan.points[i]).elevation);
+  }
+  std::vector<std::pair<double, int>> by_elevation;  // (median elevation, ring number)
+  for (auto& [ring, values] : elevations)
+    by_elevation.emplace_back(
+        values.empty() ? std::numeric_limits<double>::infinity() : median(std::move(values)), ring);
+  std::stable_sort(by_elevation.begin(), by_elevation.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::map<int, int> rank_of;
+  for (std::size_t k = 0; k < by_elevation.size(); ++k)
+    rank_of[by_elevation[k].second] = int(k);
+  std::vector<int> ring_of(scan.size());
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    ring_of[i] = rank_of[int(ring_numbers[i])];
+  putInRings(scan, ring_of, {});
   return {};
 }
 

@@ -80,18 +80,24 @@ sim::Scene street() {
 struct SimulatedFrame {
   Scan scan;
   std::vector<int> primitive;  // per point, the primitive hit (-1: none)
+  std::vector<int> laser;      // per point, its laser's place in the firing
 };
 
 // The order a frame keeps its returns in: ring after ring, as KITTI stores them, or firing after
 // firing (one return of each laser per column of azimuth), as a driver sends them; a VLP-16 fires
-// its lasers interleaved (-15, 1, -13, 3, ... 15 deg), the others from the top down.
+// its lasers interleaved (-15, 1, -13, 3, ... 15 deg), an HDL-32E its lower and upper halves in
+// turn (-30.67, -9.33, -29.33, -8, ... deg), the HDL-64E here from the top down.
 enum class Order { kRingAfterRing, kFiringAfterFiring };
 
 // The ring the k-th laser of a firing belongs to (ring 0 the top one).
 int ringOfFiring(const Head& head, int k) {
-  if (head.rings != 16) return k;
-  const int elevation = k % 2 == 0 ? k - 15 : k;  // the VLP-16's interleaved firing
-  return (15 - elevation) / 2;
+  if (head.rings == 16) {
+    const int elevation = k % 2 == 0 ? k - 15 : k;  // the VLP-16's interleaved firing
+    return (15 - elevation) / 2;
+  }
+  if (head.rings == 32)  // even lasers up from the bottom ring, odd ones up from the 16th
+    return k % 2 == 0 ? 31 - k / 2 : 15 - k / 2;
+  return k;
 }
 
 // Sensor frame (x forward, z up) at the scene's (0, 0, kSensorHeight), with the frame's pose as a
@@ -103,7 +109,7 @@ SimulatedFrame simulateFrame(const sim::Scene& scene, const Head& head,
   std::mt19937 random(64);
   std::normal_distribution<double> noise(0.0, kRangeNoise);
   SimulatedFrame frame;
-  auto cast = [&](int ring, int a) {
+  auto cast = [&](int ring, int a, int laser) {
     const double elevation = (head.top_elevation - ring * head.ring_step) * kDeg;
     const double azimuth = (a * 360.0 / kAzimuths - 180.0) * kDeg;
     const Eigen::Vector3d direction(std::cos(elevation) * std::cos(azimuth),
@@ -114,20 +120,21 @@ SimulatedFrame simulateFrame(const sim::Scene& scene, const Head& head,
     frame.scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
     frame.scan.status.push_back(PointStatus::kValid);
     frame.primitive.push_back(hit->primitive);
+    frame.laser.push_back(laser);
   };
   if (order == Order::kRingAfterRing) {
     for (int ring = 0; ring < head.rings; ++ring) {
       ScanLine line;
       line.first = frame.scan.points.size();
       for (int a = 0; a < kAzimuths; ++a)
-        cast(ring, a);
+        cast(ring, a, ring);
       line.count = frame.scan.points.size() - line.first;
       frame.scan.lines.push_back(line);
     }
   } else {
     for (int a = 0; a < kAzimuths; ++a)
       for (int k = 0; k < head.rings; ++k)
-        cast(ringOfFiring(head, k), a);
+        cast(ringOfFiring(head, k), a, k);
   }
   frame.scan.sensor_pose = SensorPose{};
   frame.scan.pose_source = PoseSource::kFile;
@@ -172,6 +179,26 @@ void expectStreetShares(const StreetShares& shares, const Head& head) {
   EXPECT_GE(double(shares.road_ground) / double(shares.road), head.road_share);
   EXPECT_GE(double(shares.pavement_ground) / double(shares.pavement), 0.8);
   EXPECT_EQ(shares.car_high_ground, 0u);
+}
+
+// The loader reorders the points into rings: each loaded point's primitive, found again by
+// position.
+std::vector<int> primitivesOfLoaded(const SimulatedFrame& frame, const Scan& scan) {
+  auto byPosition = [](const Scan& s) {
+    std::vector<std::size_t> index(s.size());
+    for (std::size_t i = 0; i < index.size(); ++i)
+      index[i] = i;
+    std::sort(index.begin(), index.end(), [&](std::size_t a, std::size_t b) {
+      const Point3f &p = s.points[a], &q = s.points[b];
+      return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
+    });
+    return index;
+  };
+  const std::vector<std::size_t> order = byPosition(frame.scan), loaded = byPosition(scan);
+  std::vector<int> primitive_of(scan.size());
+  for (std::size_t k = 0; k < order.size() && k < loaded.size(); ++k)
+    primitive_of[loaded[k]] = frame.primitive[order[k]];
+  return primitive_of;
 }
 
 class MultiBeamStreet : public ::testing::TestWithParam<Head> {};
@@ -219,27 +246,10 @@ TEST_P(MultiBeamStreet, AFrameInFiringOrderWithoutARingFieldGetsItsRingsBack) {
   EXPECT_EQ(scan.lines.size(), std::size_t(GetParam().rings));
   ASSERT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
 
-  // The loader reorders the points into rings: find each one's primitive again by position.
-  std::vector<std::size_t> order(frame.scan.size()), loaded(scan.size());
-  auto byPosition = [](const Scan& s) {
-    std::vector<std::size_t> index(s.size());
-    for (std::size_t i = 0; i < index.size(); ++i)
-      index[i] = i;
-    std::sort(index.begin(), index.end(), [&](std::size_t a, std::size_t b) {
-      const Point3f &p = s.points[a], &q = s.points[b];
-      return std::tie(p.x, p.y, p.z) < std::tie(q.x, q.y, q.z);
-    });
-    return index;
-  };
-  order = byPosition(frame.scan);
-  loaded = byPosition(scan);
-  std::vector<int> primitive_of(scan.size());
-  for (std::size_t k = 0; k < order.size(); ++k)
-    primitive_of[loaded[k]] = frame.primitive[order[k]];
-
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
   ASSERT_TRUE(result.trusted()) << result.analysis->reason;
-  expectStreetShares(countShares(scene, scan, primitive_of, result.point_classes), GetParam());
+  expectStreetShares(
+      countShares(scene, scan, primitivesOfLoaded(frame, scan), result.point_classes), GetParam());
 }
 
 // The same rings, each with its returns in another order: starting where the frame was cut (a
@@ -312,6 +322,62 @@ TEST(MultiBeamStreetMap, DoesNotDependOnWhereOrWhichWayItsRingsStart) {
               << " traversable)\n";
     EXPECT_LE(double(differing), 0.02 * double(traversable)) << "ring start " << int(start);
   }
+}
+
+// The same street as VeloView exports it: firing after firing with a `laser_id` per point, the
+// number of the laser in the firing (a VLP-16's laser 0 looks 15 deg down, laser 1 one degree up).
+// Its lines must be its rings side by side in elevation, or the ground is triangulated between
+// rings 16 deg apart: the map must be the ring-after-ring frame's.
+TEST_P(MultiBeamStreet, ALaserIdFieldInFiringOrderGivesTheSameMap) {
+  const sim::Scene scene = street();
+  const SimulatedFrame frame = simulateFrame(scene, GetParam(), Order::kFiringAfterFiring);
+  test::TemporaryDirectory directory;
+  const auto file = directory / "laser_id.pcd";
+  {
+    std::ofstream pcd(file);
+    pcd << "VERSION 0.7\nFIELDS x y z laser_id\nSIZE 4 4 4 2\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH "
+        << frame.scan.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << frame.scan.size()
+        << "\nDATA binary\n";
+    for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+      const auto laser = std::uint16_t(frame.laser[i]);
+      pcd.write(reinterpret_cast<const char*>(&frame.scan.points[i]), sizeof(Point3f));
+      pcd.write(reinterpret_cast<const char*>(&laser), sizeof(laser));
+    }
+  }
+  Scan scan = loadScan(file);
+  scan.sensor_pose = SensorPose{};
+  scan.pose_source = PoseSource::kFile;
+  ASSERT_EQ(scan.lines.size(), std::size_t(GetParam().rings));
+  // Lines side by side in elevation, lowest first.
+  const SensorGeometry sensor = describeSensor(scan);
+  ASSERT_EQ(sensor.kind, SensorKind::kMultiBeam);
+  for (std::size_t l = 1; l < sensor.line_angle.size(); ++l)
+    EXPECT_LT(sensor.line_angle[l - 1], sensor.line_angle[l]) << l;
+
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  const PipelineResult reference =
+      runPipeline(simulateFrame(scene, GetParam()).scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.analysis->reason;
+  ASSERT_TRUE(reference.trusted()) << reference.analysis->reason;
+  // Planes are grown between neighbouring lines too: the road is ground as ring after ring (the
+  // VLP-16's map is empty, its rings vouching for no ground beyond its lowest ring's 6.5 m).
+  expectStreetShares(
+      countShares(scene, scan, primitivesOfLoaded(frame, scan), result.point_classes), GetParam());
+  // The ground the rings' triangles cover (the sparser heads show little green: their far rings
+  // are too sparse to vouch for it), and what is green.
+  auto groundCells = [](const PipelineResult& r) {
+    const std::vector<std::int16_t>& plane = r.analysis->inputs.ground_plane;
+    return double(std::count_if(plane.begin(), plane.end(), [](std::int16_t g) { return g >= 0; }));
+  };
+  auto traversable = [](const PipelineResult& r) {
+    return double(std::count(r.map.labels.begin(), r.map.labels.end(),
+                             std::uint8_t(CellLabel::kTraversable)));
+  };
+  std::cout << "[ figures  ] ground cells " << groundCells(result) << " against "
+            << groundCells(reference) << " ring after ring, traversable " << traversable(result)
+            << " against " << traversable(reference) << "\n";
+  EXPECT_NEAR(groundCells(result), groundCells(reference), 0.02 * groundCells(reference));
+  EXPECT_NEAR(traversable(result), traversable(reference), 0.03 * traversable(reference) + 20);
 }
 
 INSTANTIATE_TEST_SUITE_P(Heads, MultiBeamStreet, ::testing::ValuesIn(kHeads),
