@@ -158,6 +158,10 @@ void reconstructScanLines(Scan& scan, double break_angle_rad) {
   scan.lines.push_back({line_start, scan.size() - line_start});
 }
 
+// Ring numbers are in elevation order when, taken in that order, the rings' elevations travel no
+// more than this many times the way from the lowest to the highest (small swaps of neighbours).
+constexpr double kMostElevationTravel = 1.5;
+
 std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) {
   if (ring_numbers.size() != scan.size() || scan.empty()) return {};
   // Ring fields are 8- or 16-bit unsigned in every driver's output.
@@ -169,9 +173,10 @@ std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) 
              " is not a whole number from 0 to 65535";
   }
   // Neighbouring lines must be neighbouring rings: the ground is triangulated and planes are
-  // grown between them. A ROS driver numbers its rings by elevation, but VeloView's laser_id is
-  // the firing order (a VLP-16's laser 0 looks 15 deg down, laser 1 one up, laser 2 13 down):
-  // the rings go in order of their median elevation, lowest first. A driver writes each ring in
+  // grown between them. A ROS driver numbers its rings by elevation (its lasers' calibrated
+  // angles), but VeloView's laser_id is the firing order (a VLP-16's laser 0 looks 15 deg down,
+  // laser 1 one up, laser 2 13 down): numbers that jump to and fro in elevation are replaced by
+  // the order of the rings' median elevation, lowest first. A driver writes each ring in
   // azimuth order, which is kept.
   std::map<int, std::vector<double>> elevations;
   for (std::size_t i = 0; i < scan.size(); ++i) {
@@ -182,8 +187,23 @@ std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) 
   for (auto& [ring, values] : elevations)
     by_elevation.emplace_back(
         values.empty() ? std::numeric_limits<double>::infinity() : median(std::move(values)), ring);
-  std::stable_sort(by_elevation.begin(), by_elevation.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  // In number order the elevations run up (or down) with small swaps at most: seen from one
+  // point, an HDL-64E's neighbouring lasers, which sit apart on the head, can trade places, and
+  // their numbers are the true order. Jumping to and fro they travel much farther than from the
+  // lowest to the highest ring.
+  double travelled = 0.0, lowest = std::numeric_limits<double>::infinity(),
+         highest = -std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < by_elevation.size(); ++k) {
+    const double elevation = by_elevation[k].first;
+    if (!std::isfinite(elevation)) continue;
+    lowest = std::min(lowest, elevation);
+    highest = std::max(highest, elevation);
+    if (k > 0 && std::isfinite(by_elevation[k - 1].first))
+      travelled += std::abs(elevation - by_elevation[k - 1].first);
+  }
+  if (travelled > kMostElevationTravel * (highest - lowest))
+    std::stable_sort(by_elevation.begin(), by_elevation.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
   std::map<int, int> rank_of;
   for (std::size_t k = 0; k < by_elevation.size(); ++k)
     rank_of[by_elevation[k].second] = int(k);

@@ -348,11 +348,15 @@ TEST_P(MultiBeamStreet, ALaserIdFieldInFiringOrderGivesTheSameMap) {
   scan.sensor_pose = SensorPose{};
   scan.pose_source = PoseSource::kFile;
   ASSERT_EQ(scan.lines.size(), std::size_t(GetParam().rings));
-  // Lines side by side in elevation, lowest first.
+  // Lines side by side in elevation: up or down all the way (laser numbers that follow the
+  // elevation are kept, top down here for the HDL-64E; interleaved ones are replaced).
   const SensorGeometry sensor = describeSensor(scan);
   ASSERT_EQ(sensor.kind, SensorKind::kMultiBeam);
-  for (std::size_t l = 1; l < sensor.line_angle.size(); ++l)
-    EXPECT_LT(sensor.line_angle[l - 1], sensor.line_angle[l]) << l;
+  const std::vector<double>& elevation = sensor.line_angle;
+  ASSERT_GE(elevation.size(), 2u);
+  const double way = elevation.back() > elevation.front() ? 1.0 : -1.0;
+  for (std::size_t l = 1; l < elevation.size(); ++l)
+    EXPECT_GT(way * (elevation[l] - elevation[l - 1]), 0.0) << l;
 
   const PipelineResult result = runPipeline(scan, SegmentationParams{});
   const PipelineResult reference =

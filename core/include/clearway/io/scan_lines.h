@@ -24,8 +24,9 @@ void reconstructScanLines(Scan& scan, double break_angle_rad);
 inline constexpr std::array<const char*, 2> kRingFieldNames = {"ring", "laser_id"};
 
 // Multi-beam frames with a ring number per point (a PCD or PLY ring field): one line per ring,
-// rings in order of their median elevation (lowest first; a laser_id numbers them in firing
-// order), each in the order the file keeps it. Points are reordered; lines
+// rings in increasing number when the numbers follow the elevation (a ROS driver's), else in
+// order of their median elevation, lowest first (VeloView's laser_id: the firing order), each in
+// the order the file keeps it. Points are reordered; lines
 // replaced. Returns why not, the scan unchanged, when a value is no ring number (not a whole
 // number from 0 to 65535: NaN, negative, fractional).
 std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers);
