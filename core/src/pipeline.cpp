@@ -45,8 +45,8 @@ void checkParams(const SegmentationParams& params) {
 // Why the result shows nothing traversable: the analysis' reason, or, for a scan whose ground is
 // everywhere too sparse for this robot to show anything green, that (nothing is wrong with the
 // ground found, but no cell can be vouched for).
-std::string resultReason(const TraversabilityMap& map, const RobotParams& robot,
-                         const ScanAnalysis& analysis) {
+std::string sparseOrBlockedReason(const TraversabilityMap& map, const RobotParams& robot,
+                                  const ScanAnalysis& analysis) {
   if (!analysis.ground_found || map.counts[std::size_t(CellLabel::kTraversable)] > 0)
     return analysis.reason;
   const auto sparse =
@@ -66,6 +66,15 @@ std::string resultReason(const TraversabilityMap& map, const RobotParams& robot,
          << " cells the ground samples are so far apart that an obstacle taller than the step ("
          << robot.max_step << " m) could hide between them (scan with more lines)";
   return reason.str();
+}
+
+// The reason, after what the loader could not work out (ScanMetadata::caution) when there is
+// one: a reason drawn from a scan misread names the wrong cause on its own.
+std::string resultReason(const TraversabilityMap& map, const RobotParams& robot,
+                         const ScanAnalysis& analysis, const std::string& caution) {
+  const std::string reason = sparseOrBlockedReason(map, robot, analysis);
+  if (caution.empty() || reason.empty()) return reason;
+  return caution + "; " + reason;
 }
 
 }  // namespace
@@ -112,7 +121,7 @@ PipelineResult rerunForRobot(const Scan& scan, std::shared_ptr<const ScanAnalysi
   auto start = std::chrono::steady_clock::now();
   result.map = computeTraversability(*analysis, params.robot, params.map, threads, progress);
   result.timings.push_back({"traversability", millisecondsSince(start)});
-  result.reason = resultReason(result.map, params.robot, *analysis);
+  result.reason = resultReason(result.map, params.robot, *analysis, scan.metadata.caution);
   start = std::chrono::steady_clock::now();
   // The point classes do not depend on the map: beside the scene's parts.
   detail::parallelTasks(

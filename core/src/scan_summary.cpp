@@ -18,6 +18,7 @@ ScanSummary summarise(const Scan& scan) {
   summary.file = scan.metadata.source_path;
   summary.format = scan.metadata.format;
   summary.frame = scan.metadata.frame;
+  summary.caution = scan.metadata.caution;
   summary.points = scan.size();
   for (PointStatus status : scan.status) {
     switch (status) {
@@ -93,6 +94,7 @@ std::string toText(const ScanSummary& s) {
   if (s.sensor_pose)
     out << "sensor position: " << s.sensor_pose->position[0] << ' ' << s.sensor_pose->position[1]
         << ' ' << s.sensor_pose->position[2] << '\n';
+  if (!s.caution.empty()) out << "caution:         " << s.caution << '\n';
   return out.str();
 }
 
@@ -124,6 +126,7 @@ std::string toJson(const ScanSummary& s) {
   if (s.sensor_pose)
     json["sensor_pose"] = {{"position", s.sensor_pose->position},
                            {"rotation", s.sensor_pose->rotation}};
+  if (!s.caution.empty()) json["caution"] = s.caution;
   return json.dump(2);
 }
 

@@ -58,6 +58,9 @@ struct ScanMetadata {
   std::string source_path;
   std::string format;  // e.g. "pcd (binary_compressed)", "3dtk uos"
   std::string frame;   // how the file's axes and units were mapped into Clearway's frame
+  // What the loader could not work out and the user must know to read the result (empty: none),
+  // e.g. a multi-beam frame whose rings it could not tell apart.
+  std::string caution;
 };
 
 struct Scan {

@@ -14,6 +14,7 @@ struct ScanSummary {
   std::string file;
   std::string format;
   std::string frame;
+  std::string caution;  // what the loader could not work out (ScanMetadata::caution); empty: none
   std::size_t points = 0;        // records in the file
   std::size_t valid_points = 0;  // real returns
   std::size_t no_return = 0;

@@ -5,6 +5,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -340,7 +341,22 @@ std::size_t recoverFiringOrderRings(Scan& scan) {
   if (sorted.size() < 2 * kMostLasers) return 0;
   // Robust field of view: the 1st to the 99th percentile of the elevations.
   const std::size_t percent = sorted.size() / 100;
-  if (sorted[sorted.size() - 1 - percent] - sorted[percent] > kWidestMultiBeamView) return 0;
+  const double view = sorted[sorted.size() - 1 - percent] - sorted[percent];
+  if (view > kWidestMultiBeamView) return 0;
+  // From here on the frame zig-zags within a multi-beam head's view, as firings do: if its rings
+  // cannot be told apart, the lines it keeps are not scan lines, and the user must know.
+  auto cannotTellRingsApart = [&] {
+    std::ostringstream caution;
+    caution << "this looks like a multi-beam frame kept firing after firing (successive returns "
+               "zig-zag within "
+            << std::lround(view * 180.0 / kPi)
+            << " deg of elevation), but its rings cannot be told apart by elevation (a head "
+               "whose lasers sit apart, like an HDL-64E's, seen from one point): it is read as "
+               "short vertical fans, which it is not; save it ring after ring or with a ring "
+               "field";
+    scan.metadata.caution = caution.str();
+    return std::size_t{0};
+  };
 
   // Bands of elevation; the bounds between rings lie midway across the gaps beside them.
   struct Band {
@@ -357,7 +373,7 @@ std::size_t recoverFiringOrderRings(Scan& scan) {
   std::vector<Band> rings;
   for (const Band& band : bands)
     if (double(band.count) >= kSmallestRingShare * average_band) rings.push_back(band);
-  if (rings.size() < 2 || rings.size() > kMostLasers) return 0;
+  if (rings.size() < 2 || rings.size() > kMostLasers) return cannotTellRingsApart();
   std::vector<double> bounds;
   for (std::size_t r = 1; r < rings.size(); ++r)
     bounds.push_back(0.5 * (rings[r - 1].high + rings[r].low));
@@ -377,8 +393,8 @@ std::size_t recoverFiringOrderRings(Scan& scan) {
     }
     previous_band = band;
   }
-  if (double(same_band) > kMostSameBandSuccessors * double(pairs)) return 0;
-  if (!splitIntoRings(scan, d, bounds).empty()) return 0;
+  if (double(same_band) > kMostSameBandSuccessors * double(pairs)) return cannotTellRingsApart();
+  if (!splitIntoRings(scan, d, bounds).empty()) return cannotTellRingsApart();
   return rings.size();
 }
 

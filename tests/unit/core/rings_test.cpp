@@ -13,6 +13,8 @@
 
 #include "clearway/io/scan_io.h"
 #include "clearway/io/scan_lines.h"
+#include "clearway/pipeline.h"
+#include "clearway/scan_summary.h"
 #include "clearway/sensor_geometry.h"
 #include "test_support.h"
 
@@ -196,6 +198,37 @@ TEST(Rings, AFrameInFiringOrderGetsItsRingsBackFromItsElevationBands) {
   EXPECT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
 }
 
+// Firing after firing, eight lasers 1 deg apart whose returns each spread 1.5 deg either way in
+// elevation seen from one point (lasers that sit apart on the head, as an HDL-64E's): no bands
+// separate them. The frame is left as the line reconstruction read it, and says why in
+// ScanMetadata::caution, which the result's reason leads with.
+TEST(Rings, AFiringOrderFrameWhoseRingsOverlapSaysSo) {
+  Scan scan;
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> spread(-1.5, 1.5);
+  for (int k = 0; k < kPerRing; ++k)
+    for (const int r : {5, 1, 6, 2, 7, 3, 4, 0}) {
+      const double elevation = (-10.0 + r + spread(random)) * kDeg, azimuth = (k + 0.5) * kDeg;
+      scan.points.push_back({float(10.0 * std::cos(elevation) * std::cos(azimuth)),
+                             float(10.0 * std::cos(elevation) * std::sin(azimuth)),
+                             float(10.0 * std::sin(elevation))});
+      scan.status.push_back(PointStatus::kValid);
+    }
+  reconstructScanLines(scan, 20.0 * kDeg);
+  const std::size_t lines = scan.lines.size();
+  EXPECT_EQ(recoverFiringOrderRings(scan), 0U);
+  EXPECT_EQ(scan.lines.size(), lines);
+  EXPECT_NE(scan.metadata.caution.find("multi-beam frame kept firing after firing"),
+            std::string::npos)
+      << scan.metadata.caution;
+  EXPECT_NE(toText(summarise(scan)).find("caution:"), std::string::npos);
+  // Nothing is green on such a frame, and the reason starts with the caution, not with advice
+  // for a scan it is not ("scan with more lines").
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  EXPECT_FALSE(result.trusted() && result.map.counts[std::size_t(CellLabel::kTraversable)] > 0);
+  EXPECT_EQ(result.reason.rfind(scan.metadata.caution, 0), 0U) << result.reason;
+}
+
 // A 2D scanner's vertical fans (100 deg at 1 deg, the LMS200's narrow mode) turned about the
 // vertical: short lines too, at fixed elevations too, but over a field of view no multi-beam head
 // has. They stay fans.
@@ -213,6 +246,7 @@ TEST(Rings, ARotatingScannersFansAreNotTakenForFirings) {
   ASSERT_EQ(scan.lines.size(), 180U);
   EXPECT_EQ(recoverFiringOrderRings(scan), 0U);
   EXPECT_EQ(scan.lines.size(), 180U);
+  EXPECT_TRUE(scan.metadata.caution.empty()) << scan.metadata.caution;
 }
 
 }  // namespace
