@@ -3,6 +3,7 @@
 
 #include <Eigen/Geometry>
 #include <QDoubleSpinBox>
+#include <QFile>
 #include <QLabel>
 #include <QMessageBox>
 #include <QSettings>
@@ -10,8 +11,11 @@
 #include <QSlider>
 #include <QStandardPaths>
 #include <QTemporaryDir>
+#include <QTextStream>
 #include <QtTest>
 #include <cmath>
+#include <numbers>
+#include <random>
 
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
@@ -127,6 +131,44 @@ class MainWindowTest : public QObject {
     QVERIFY2(banner->text().contains("too sparse"), qPrintable(banner->text()));
     // Said once: the reason names what is not shown itself, with no prefix repeating it.
     QVERIFY2(banner->text().count("traversable") == 1, qPrintable(banner->text()));
+    QCOMPARE(greenPixels(window.mapView()->image()), 0);
+  }
+
+  // A frame kept firing after firing whose lasers overlap in elevation (eight lasers 1 deg apart,
+  // each spread 1.5 deg either way): the loader cannot find its rings, and the console says so in
+  // the scan panel and leads the banner's reason with it.
+  void aFrameWhoseRingsCannotBeFoundSaysSo() {
+    const QString file = directory_.filePath("overlapping_firings.pcd");
+    {
+      QFile pcd(file);
+      QVERIFY(pcd.open(QIODevice::WriteOnly | QIODevice::Text));
+      QTextStream out(&pcd);
+      constexpr int kColumns = 360, kLasers = 8;
+      out << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH "
+          << kColumns * kLasers << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS "
+          << kColumns * kLasers << "\nDATA ascii\n";
+      std::mt19937 random(5);
+      std::uniform_real_distribution<double> spread(-1.5, 1.5);
+      constexpr double kDeg = std::numbers::pi / 180.0;
+      for (int k = 0; k < kColumns; ++k)
+        for (const int laser : {5, 1, 6, 2, 7, 3, 4, 0}) {
+          const double elevation = (-10.0 + laser + spread(random)) * kDeg;
+          const double azimuth = (k + 0.5) * kDeg;
+          out << 10.0 * std::cos(elevation) * std::cos(azimuth) << ' '
+              << 10.0 * std::cos(elevation) * std::sin(azimuth) << ' ' << 10.0 * std::sin(elevation)
+              << '\n';
+        }
+    }
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(file);
+    QVERIFY(shown.wait(kTimeoutMs));
+    const QString info = window.findChild<QLabel*>("scanInfo")->text();
+    QVERIFY2(info.contains("Caution") && info.contains("firing after firing"), qPrintable(info));
+    auto* banner = window.findChild<QLabel*>("trustBanner");
+    QVERIFY(banner->isVisible());
+    QVERIFY2(banner->text().contains("firing after firing"), qPrintable(banner->text()));
     QCOMPARE(greenPixels(window.mapView()->image()), 0);
   }
 

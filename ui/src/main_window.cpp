@@ -89,6 +89,10 @@ QString humanSummary(const SessionResult& result) {
                     .arg(pipeline.map.grid.height * pipeline.map.grid.resolution, 0, 'f', 1)
                     .arg(pipeline.map.grid.resolution * 100, 0, 'f', 0)
               : QObject::tr("<br><b>No ground found</b>: nothing is traversable.");
+  // What the loader could not work out changes how the whole result reads.
+  if (!facts.caution.empty())
+    text += QObject::tr("<br><b>Caution</b>: %1.")
+                .arg(QString::fromStdString(facts.caution).toHtmlEscaped());
   // A reach of a few cells beside a map of green says nothing by itself: say why it stops.
   if (pipeline.trusted() && !pipeline.map.reach_limit.empty())
     text += QObject::tr("<br>Reach: %1.")
