@@ -115,7 +115,10 @@ UpEstimate estimateUp(const Scan& scan, const ValidatedPlanes& planes, const Gro
     // ground level the other side is possible too.
     std::vector<std::pair<Eigen::Vector3d, double>> sides = {{-plane.normal, plane.offset}};
     if (plane.offset < kGroundLevelOffset) sides.push_back({plane.normal, -plane.offset});
-    for (const auto& [up, height] : sides) {
+    for (const auto& side : sides) {
+      // Named copies: clang 14 lets no lambda capture a structured binding (C++20 allows it).
+      const Eigen::Vector3d& up = side.first;
+      const double height = side.second;
       if (height > kMaxScannerHeight || height < params.min_scanner_height) continue;
       if (behindFraction(samples.all, up, height) > kMaxBehindFraction) continue;
       // A scan that sees nothing above the scanner cannot tell this floor from a ceiling seen

@@ -578,7 +578,10 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   queue.push({remaining[std::size_t(start_cell)], first});
   std::int64_t reached = -1;
   while (!queue.empty()) {
-    const auto [priority, state] = queue.pop();
+    // A named copy of the state: clang 14 lets no lambda (relax below) capture a structured
+    // binding.
+    const auto [priority, popped] = queue.pop();
+    const std::size_t state = popped;
     const std::size_t dense = state / orientations;
     const int k = int(state - dense * orientations);
     const std::size_t cell = cell_of[dense];
