@@ -94,13 +94,29 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
     throw ScanError(file, "PCD body holds fewer points than its header says");
   reportProgress(options.progress, 0.5);
 
+  // PCL parses the header again, its own way: a body line that starts with one of its keywords
+  // (a v0.5 "COLUMNS" inside ascii data) replaces the fields our check saw. Every field read below
+  // must be there and lie within a record.
+  auto within = [&](const pcl::PCLPointField* field) {
+    return !field || (pcl::getFieldSize(field->datatype) > 0 &&
+                      std::size_t(field->offset) + pcl::getFieldSize(field->datatype) <=
+                          std::size_t(cloud.point_step));
+  };
   const pcl::PCLPointField* x = findField(cloud, {"x"});
   const pcl::PCLPointField* y = findField(cloud, {"y"});
   const pcl::PCLPointField* z = findField(cloud, {"z"});
+  if (!x || !y || !z)
+    throw ScanError(file, "PCD body does not read as the header says: no x, y and z fields");
   const pcl::PCLPointField* intensity =
       findField(cloud, {"intensity", "remission", "reflectance", "i"});
   const pcl::PCLPointField* alpha = findField(cloud, {"alpha"});
   const pcl::PCLPointField* beta = findField(cloud, {"beta"});
+  const pcl::PCLPointField* ring = nullptr;
+  for (const char* name : kRingFieldNames)
+    if (!ring) ring = findField(cloud, {name});
+  for (const pcl::PCLPointField* field : {x, y, z, intensity, alpha, beta, ring})
+    if (!within(field))
+      throw ScanError(file, "PCD field '" + field->name + "' lies outside its point record");
 
   Scan scan;
   scan.points.reserve(count);
@@ -116,9 +132,6 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
   }
 
   // Multi-beam drivers (Velodyne, Ouster) tag each point with its beam: one line per ring.
-  const pcl::PCLPointField* ring = nullptr;
-  for (const char* name : kRingFieldNames)
-    if (!ring) ring = findField(cloud, {name});
   if (ring && cloud.height <= 1) {
     std::vector<double> ring_numbers(count);
     for (std::size_t i = 0; i < count; ++i)

@@ -102,6 +102,15 @@ TEST_F(BadInput, PcdWithoutXyz) {
   expectScanError(write("noxyz.pcd", header), "no 'x' field");
 }
 
+// PCL's reader parses the header again, its own way, and takes a body line starting with a v0.5
+// keyword ("COLUMNS", the old name of FIELDS) for a new field list: the cloud it returned had no
+// x, and the reader dereferenced a null field (found by scripts/fuzz, fuzz_pcd_reader).
+TEST_F(BadInput, PcdBodyLineThatPclTakesForAHeaderKeyword) {
+  expectScanError(
+      write("columns.pcd", pcdHeader("ascii", "3", "1", "3") + "COLUMNS1 2 3\n4 5 6\n7 8 9\n"),
+      "no x, y and z fields");
+}
+
 TEST_F(BadInput, PcdHeaderClaimingATrillionPoints) {
   expectScanError(write("huge.pcd", pcdHeader("binary", "1000000", "1000000", "1000000000000") +
                                         floats(30, 1.0F)),
