@@ -91,6 +91,22 @@ void checkBodySize(const std::filesystem::path& file, std::string_view prefix,
   }
 }
 
+// PCL's reader parses the header again and reads the line after DATA as a header line too: when
+// it starts like one of PCL's keywords ("COLUMNS", the v0.5 name of FIELDS, or any other), PCL
+// replaced the fields our check saw, or sized a string by the bytes after it and read beyond its
+// buffer (a crash no exception can catch: found by fuzz_pcd_reader). Real point data never
+// starts with a capitalised keyword; such a file is refused before PCL reads it.
+void checkBodyStart(const std::filesystem::path& file, std::string_view prefix,
+                    const Header& header) {
+  if (prefix.size() <= header.data_offset) return;
+  const std::string_view body = prefix.substr(header.data_offset);
+  for (const std::string_view keyword : {"VERSION", "FIELDS", "COLUMNS", "SIZE", "TYPE", "COUNT",
+                                         "WIDTH", "HEIGHT", "VIEWPOINT", "POINTS", "DATA"})
+    if (body.substr(0, keyword.size()) == keyword)
+      throw ScanError(file, "PCD body starts with the header keyword '" + std::string(keyword) +
+                                "': PCL's reader would take it for a header line");
+}
+
 }  // namespace
 
 std::size_t Header::pointSize() const {
@@ -198,6 +214,7 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     throw ScanError(
         file, "PCD header: POINTS " + std::to_string(header.points) + " is not WIDTH x HEIGHT");
   checkBodySize(file, prefix, file_size, header);
+  checkBodyStart(file, prefix, header);
   return header;
 }
 

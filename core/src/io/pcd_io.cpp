@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <limits>
 
 #include "clearway/io/file_util.h"
@@ -87,8 +88,15 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
   Eigen::Quaternionf orientation;
   int pcd_version = 0;
   pcl::PCDReader reader;
-  if (reader.read(file.string(), cloud, origin, orientation, pcd_version) < 0)
-    throw ScanError(file, "PCD body is corrupt or shorter than its header says");
+  int read_result = 0;
+  try {
+    read_result = reader.read(file.string(), cloud, origin, orientation, pcd_version);
+  } catch (const std::exception& error) {
+    // PCL throws where our check and its own header parse disagree (a body line it takes for a
+    // header keyword: std::length_error from a string it sizes by it).
+    throw ScanError(file, std::string("PCD body is corrupt: ") + error.what());
+  }
+  if (read_result < 0) throw ScanError(file, "PCD body is corrupt or shorter than its header says");
   const std::size_t count = std::size_t(cloud.width) * cloud.height;
   if (count != header.points || cloud.data.size() < count * cloud.point_step)
     throw ScanError(file, "PCD body holds fewer points than its header says");

@@ -102,13 +102,25 @@ TEST_F(BadInput, PcdWithoutXyz) {
   expectScanError(write("noxyz.pcd", header), "no 'x' field");
 }
 
-// PCL's reader parses the header again, its own way, and takes a body line starting with a v0.5
-// keyword ("COLUMNS", the old name of FIELDS) for a new field list: the cloud it returned had no
-// x, and the reader dereferenced a null field (found by scripts/fuzz, fuzz_pcd_reader).
-TEST_F(BadInput, PcdBodyLineThatPclTakesForAHeaderKeyword) {
+// PCL's reader parses the header again and reads the line after DATA as a header line too: an
+// ascii body starting "COLUMNS" (v0.5's FIELDS) replaced the field list and the reader
+// dereferenced a null x field; a binary one made PCL size a string by the bytes after it and read
+// beyond its buffer (sometimes std::length_error, sometimes a crash). Both found by
+// fuzz_pcd_reader; such a body is refused before PCL reads it.
+TEST_F(BadInput, PcdBodyStartingWithAHeaderKeyword) {
   expectScanError(
       write("columns.pcd", pcdHeader("ascii", "3", "1", "3") + "COLUMNS1 2 3\n4 5 6\n7 8 9\n"),
-      "no x, y and z fields");
+      "PCD body starts with the header keyword 'COLUMNS'");
+  std::string body = "COLUMNS";
+  for (int byte = 200; byte < 236; ++byte)
+    body += char(byte);
+  body += "\n" + std::string(40, '\0');
+  expectScanError(write("columns_binary.pcd", pcdHeader("binary", "3", "1", "3") + body),
+                  "PCD body starts with the header keyword 'COLUMNS'");
+  // Further down the body a keyword is only data, to PCL too.
+  const Scan scan = loadScan(
+      write("columns_later.pcd", pcdHeader("ascii", "3", "1", "3") + "1 2 3\n4 5 6\n7 8 9\n"));
+  EXPECT_EQ(scan.size(), 3U);
 }
 
 TEST_F(BadInput, PcdHeaderClaimingATrillionPoints) {
