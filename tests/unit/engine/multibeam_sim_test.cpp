@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <numbers>
@@ -201,6 +202,32 @@ std::vector<int> primitivesOfLoaded(const SimulatedFrame& frame, const Scan& sca
   return primitive_of;
 }
 
+// The frame saved as an unorganised binary PCD of x, y, z (and, with kField, a `laser_id` per
+// point: its laser's place in the firing, as VeloView exports it) and loaded again, level and
+// upright as the ring-after-ring frame (a PCD's identity viewpoint says no pose).
+enum class LaserId { kNone, kField };
+
+Scan savedAndLoaded(const SimulatedFrame& frame, const std::filesystem::path& file,
+                    LaserId laser_id) {
+  {
+    const bool with_id = laser_id == LaserId::kField;
+    std::ofstream pcd(file);
+    pcd << "VERSION 0.7\nFIELDS x y z" << (with_id ? " laser_id" : "") << "\nSIZE 4 4 4"
+        << (with_id ? " 2" : "") << "\nTYPE F F F" << (with_id ? " U" : "") << "\nCOUNT 1 1 1"
+        << (with_id ? " 1" : "") << "\nWIDTH " << frame.scan.size()
+        << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << frame.scan.size() << "\nDATA binary\n";
+    for (std::size_t i = 0; i < frame.scan.size(); ++i) {
+      pcd.write(reinterpret_cast<const char*>(&frame.scan.points[i]), sizeof(Point3f));
+      const auto laser = std::uint16_t(frame.laser[i]);
+      if (with_id) pcd.write(reinterpret_cast<const char*>(&laser), sizeof(laser));
+    }
+  }
+  Scan scan = loadScan(file);
+  scan.sensor_pose = SensorPose{};
+  scan.pose_source = PoseSource::kFile;
+  return scan;
+}
+
 class MultiBeamStreet : public ::testing::TestWithParam<Head> {};
 
 // Sparse rings too: each is a thin arc on a plane's support image, and only the cells between
@@ -229,20 +256,8 @@ TEST_P(MultiBeamStreet, AFrameInFiringOrderWithoutARingFieldGetsItsRingsBack) {
   const sim::Scene scene = street();
   const SimulatedFrame frame = simulateFrame(scene, GetParam(), Order::kFiringAfterFiring);
   test::TemporaryDirectory directory;
-  const auto file = directory / "firing.pcd";
-  {
-    std::ofstream pcd(file);
-    pcd << "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH "
-        << frame.scan.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << frame.scan.size()
-        << "\nDATA binary\n";
-    pcd.write(reinterpret_cast<const char*>(frame.scan.points.data()),
-              std::streamsize(frame.scan.size() * sizeof(Point3f)));
-  }
-  Scan scan = loadScan(file);
+  const Scan scan = savedAndLoaded(frame, directory / "firing.pcd", LaserId::kNone);
   ASSERT_EQ(scan.size(), frame.scan.size());
-  // Level and upright, as the ring-after-ring frame (a PCD's identity viewpoint says no pose).
-  scan.sensor_pose = SensorPose{};
-  scan.pose_source = PoseSource::kFile;
   EXPECT_EQ(scan.lines.size(), std::size_t(GetParam().rings));
   ASSERT_EQ(describeSensor(scan).kind, SensorKind::kMultiBeam);
 
@@ -332,21 +347,7 @@ TEST_P(MultiBeamStreet, ALaserIdFieldInFiringOrderGivesTheSameMap) {
   const sim::Scene scene = street();
   const SimulatedFrame frame = simulateFrame(scene, GetParam(), Order::kFiringAfterFiring);
   test::TemporaryDirectory directory;
-  const auto file = directory / "laser_id.pcd";
-  {
-    std::ofstream pcd(file);
-    pcd << "VERSION 0.7\nFIELDS x y z laser_id\nSIZE 4 4 4 2\nTYPE F F F U\nCOUNT 1 1 1 1\nWIDTH "
-        << frame.scan.size() << "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " << frame.scan.size()
-        << "\nDATA binary\n";
-    for (std::size_t i = 0; i < frame.scan.size(); ++i) {
-      const auto laser = std::uint16_t(frame.laser[i]);
-      pcd.write(reinterpret_cast<const char*>(&frame.scan.points[i]), sizeof(Point3f));
-      pcd.write(reinterpret_cast<const char*>(&laser), sizeof(laser));
-    }
-  }
-  Scan scan = loadScan(file);
-  scan.sensor_pose = SensorPose{};
-  scan.pose_source = PoseSource::kFile;
+  const Scan scan = savedAndLoaded(frame, directory / "laser_id.pcd", LaserId::kField);
   ASSERT_EQ(scan.lines.size(), std::size_t(GetParam().rings));
   // Lines side by side in elevation: up or down all the way (laser numbers that follow the
   // elevation are kept, top down here for the HDL-64E; interleaved ones are replaced).
