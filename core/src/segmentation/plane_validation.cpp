@@ -225,8 +225,8 @@ double buildSupportImage(const Scan& scan, const Plane& plane,
   // supported (ring_support.h). A plane that grows already spans its rings' gaps (below).
   if (!rings.empty() && largest < kGrowthAreaFactor * min_cells) {
     detail::supportBetweenRings(
-        scan, rings, plane, params.support_distance, per_metre, support, uv,
-        {centre, image.u_axis, image.v_axis, {u_min, v_min}, params.cell_size}, counts,
+        scan, rings, params.cell_size, growth_gap, plane, params.support_distance, per_metre,
+        support, uv, {centre, image.u_axis, image.v_axis, {u_min, v_min}, params.cell_size}, counts,
         params.min_cell_points);
     measure();
   }
@@ -300,9 +300,12 @@ ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
   std::vector<SupportImage> images(candidates.size());
   std::vector<std::vector<std::uint32_t>> supports(candidates.size());
   const std::vector<PointBlock> blocks = pointBlocks(scan, threads);
-  const detail::RingLayout rings =
-      detail::ringLayout(scan, spread.rings_by_elevation, spread.ring_azimuth_step,
-                         params.cell_size, spread.growth_gap, threads);
+  // The frame's ring layout: the caller's when it worked it out (it serves later stages too).
+  detail::RingLayout own_layout;
+  if (!spread.ring_layout)
+    own_layout =
+        detail::ringLayout(scan, spread.rings_by_elevation, spread.ring_azimuth_step, threads);
+  const detail::RingLayout& rings = spread.ring_layout ? *spread.ring_layout : own_layout;
   detail::parallelChunks(
       candidates.size(), threads,
       [&](std::size_t begin, std::size_t end, std::size_t) {

@@ -2,7 +2,6 @@
 
 #include <Eigen/Core>
 #include <cmath>
-#include <limits>
 
 #include "ring_support.h"
 
@@ -10,14 +9,11 @@ namespace clearway::detail {
 
 std::size_t followGroundOutward(const Scan& scan,
                                 const std::vector<std::size_t>& rings_by_elevation,
-                                double azimuth_step, const std::vector<Plane>& planes,
+                                const RingLayout& layout, const std::vector<Plane>& planes,
                                 const std::vector<int>& ground, const OutwardGroundLimits& limits,
-                                std::vector<std::int32_t>& point_plane, int threads) {
-  if (ground.empty() || rings_by_elevation.size() < 2) return 0;
+                                std::vector<std::int32_t>& point_plane) {
   // Facing returns however far apart: the far rings of a sparse head are what this is for.
-  const RingLayout layout = ringLayout(scan, rings_by_elevation, azimuth_step, 0.0,
-                                       std::numeric_limits<double>::max(), threads);
-  if (layout.empty()) return 0;
+  if (ground.empty() || rings_by_elevation.size() < 2 || layout.empty()) return 0;
   std::vector<bool> is_ground(planes.size(), false);
   for (const int g : ground)
     is_ground[std::size_t(g)] = true;

@@ -18,6 +18,8 @@
 
 namespace clearway::detail {
 
+struct RingLayout;  // ring_support.h
+
 struct OutwardGroundLimits {
   double off_plane = 0.1;  // [m] the robot's step: at most this far off the plane ...
   double per_metre = 0.0;  // ... plus this much per metre of range (the fit's tilt, the noise)
@@ -27,12 +29,12 @@ struct OutwardGroundLimits {
 
 // Puts on a ground plane the returns of `point_plane` (per point, its plane or -1) on no plane
 // that continue a ground plane outward, walking the rings `rings_by_elevation` (indices into
-// scan.lines, lowest first) up, their returns `azimuth_step` apart. `ground`: the ground planes'
-// indices into `planes`. Returns how many points it put on a plane.
+// scan.lines, lowest first) up, each return's facing one on the next ring given by `layout`.
+// `ground`: the ground planes' indices into `planes`. Returns how many points it put on a plane.
 std::size_t followGroundOutward(const Scan& scan,
                                 const std::vector<std::size_t>& rings_by_elevation,
-                                double azimuth_step, const std::vector<Plane>& planes,
+                                const RingLayout& layout, const std::vector<Plane>& planes,
                                 const std::vector<int>& ground, const OutwardGroundLimits& limits,
-                                std::vector<std::int32_t>& point_plane, int threads);
+                                std::vector<std::int32_t>& point_plane);
 
 }  // namespace clearway::detail

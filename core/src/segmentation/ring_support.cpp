@@ -60,11 +60,10 @@ double azimuthGap(double a, double b) {
 }  // namespace
 
 RingLayout ringLayout(const Scan& scan, const std::vector<std::size_t>& rings_by_elevation,
-                      double azimuth_step, double min_gap, double max_gap, int threads) {
+                      double azimuth_step, int threads) {
   RingLayout layout;
   if (rings_by_elevation.size() < 2 || !(azimuth_step > 0.0)) return layout;
   const double tolerance = kFacingSteps * azimuth_step;
-  const double min_gap_squared = min_gap * min_gap, max_gap_squared = max_gap * max_gap;
   std::vector<std::vector<RingEntry>> rings(rings_by_elevation.size());
   parallelChunks(rings.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t rank = begin; rank < end; ++rank)
@@ -92,25 +91,20 @@ RingLayout ringLayout(const Scan& scan, const std::vector<std::size_t>& rings_by
             facing = candidate;
           }
         }
-        if (!facing) continue;
-        const Point3f& a = scan.points[entry.point];
-        const Point3f& b = scan.points[facing->point];
-        const double dx = double(a.x) - b.x, dy = double(a.y) - b.y, dz = double(a.z) - b.z;
-        const double gap_squared = dx * dx + dy * dy + dz * dz;
-        if (gap_squared > min_gap_squared && gap_squared <= max_gap_squared)
-          layout.facing[entry.point] = facing->point;
+        if (facing) layout.facing[entry.point] = facing->point;
       }
     }
   });
   return layout;
 }
 
-void supportBetweenRings(const Scan& scan, const RingLayout& layout, const Plane& plane,
-                         double tolerance, double per_metre,
+void supportBetweenRings(const Scan& scan, const RingLayout& layout, double min_gap, double max_gap,
+                         const Plane& plane, double tolerance, double per_metre,
                          const std::vector<std::uint32_t>& support,
                          const std::vector<Eigen::Vector2d>& uv, const SupportFrame& frame,
                          cv::Mat& counts, int min_count) {
   if (layout.empty()) return;
+  const double min_gap_squared = min_gap * min_gap, max_gap_squared = max_gap * max_gap;
   const Eigen::Vector3f normal = plane.normal.cast<float>();
   const auto offset = float(plane.offset), flat_band = float(tolerance);
   const auto widening = float(per_metre);
@@ -122,7 +116,11 @@ void supportBetweenRings(const Scan& scan, const RingLayout& layout, const Plane
   for (std::size_t k = 0; k < support.size(); ++k) {
     const std::uint32_t other = layout.facing[support[k]];
     if (other == RingLayout::kNone) continue;
+    const Point3f& a = scan.points[support[k]];
     const Point3f& p = scan.points[other];
+    const double dx = double(a.x) - p.x, dy = double(a.y) - p.y, dz = double(a.z) - p.z;
+    const double gap_squared = dx * dx + dy * dy + dz * dz;
+    if (gap_squared <= min_gap_squared || gap_squared > max_gap_squared) continue;
     const Eigen::Vector3f q(p.x, p.y, p.z);
     if (std::abs(normal.dot(q) - offset) > flat_band + widening * q.norm()) continue;
     const Eigen::Vector3d relative = q.cast<double>() - frame.centre;

@@ -20,8 +20,8 @@
 namespace clearway::detail {
 
 // For each return, the return of the next ring up that faces it: nearest in azimuth, within
-// kFacingSteps azimuth steps, more than `min_gap` and at most `max_gap` away (two returns a
-// support cell apart or less leave no cell between their own). Worked out once per frame.
+// kFacingSteps azimuth steps, however far away (each use asks its own distance: the support
+// between rings, the ground followed outward). Worked out once per frame.
 struct RingLayout {
   static constexpr std::uint32_t kNone = 0xffffffffU;
   std::vector<std::uint32_t> facing;  // per point; kNone where no return faces it
@@ -31,7 +31,7 @@ struct RingLayout {
 // The layout of the lines `rings_by_elevation` (indices into scan.lines, lowest first), whose
 // returns lie `azimuth_step` apart along each ring.
 RingLayout ringLayout(const Scan& scan, const std::vector<std::size_t>& rings_by_elevation,
-                      double azimuth_step, double min_gap, double max_gap, int threads);
+                      double azimuth_step, int threads);
 
 // Where a plane's support image lies: a point p is at uv = ((p - centre) . u_axis,
 // (p - centre) . v_axis), and cells of `cell` metres start at `uv0`.
@@ -43,9 +43,11 @@ struct SupportFrame {
 
 // Raises to `min_count` the `counts` (CV_16U, the support image) of the cells on the segment from
 // each point of `support` (at `uv`) to the return facing it on the next ring up, when that return
-// lies in the plane's support band too: |normal . p - offset| <= tolerance + per_metre x range.
-void supportBetweenRings(const Scan& scan, const RingLayout& layout, const Plane& plane,
-                         double tolerance, double per_metre,
+// lies more than `min_gap` and at most `max_gap` away (two returns a support cell apart or less
+// leave no cell between their own) and in the plane's support band too:
+// |normal . p - offset| <= tolerance + per_metre x range.
+void supportBetweenRings(const Scan& scan, const RingLayout& layout, double min_gap, double max_gap,
+                         const Plane& plane, double tolerance, double per_metre,
                          const std::vector<std::uint32_t>& support,
                          const std::vector<Eigen::Vector2d>& uv, const SupportFrame& frame,
                          cv::Mat& counts, int min_count);

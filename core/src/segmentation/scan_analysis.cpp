@@ -8,6 +8,7 @@
 #include "clearway/segmentation/up_estimation.h"
 #include "clearway/traversability/ground_density.h"
 #include "ring_ground.h"
+#include "ring_support.h"
 
 namespace clearway {
 namespace {
@@ -87,6 +88,9 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
     std::sort(spread.rings_by_elevation.begin(), spread.rings_by_elevation.end(),
               [&](std::size_t a, std::size_t b) { return elevation[a] < elevation[b]; });
     spread.ring_azimuth_step = analysis.sensor.along_line_step;
+    // Worked out once: the validation's support between rings and the ground followed outward.
+    spread.ring_layout = std::make_shared<const detail::RingLayout>(
+        detail::ringLayout(scan, spread.rings_by_elevation, spread.ring_azimuth_step, threads));
   }
   analysis.planes = validatePlanes(scan, std::move(candidates), params.validation, threads, spread);
   clock.stop("validation");
@@ -134,9 +138,9 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
       limits.off_plane = params.robot.max_step;
       limits.per_metre = kRingSupportPerMetre;
       limits.max_slope = std::tan(params.ground.max_slope_deg * std::numbers::pi / 180.0);
-      detail::followGroundOutward(scan, spread.rings_by_elevation, spread.ring_azimuth_step,
+      detail::followGroundOutward(scan, spread.rings_by_elevation, *spread.ring_layout,
                                   analysis.planes.planes, analysis.ground_planes, limits,
-                                  analysis.planes.point_plane, threads);
+                                  analysis.planes.point_plane);
     }
   }
   clock.stop("ground");

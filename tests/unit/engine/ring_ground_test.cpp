@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "../../../core/src/segmentation/ring_ground.h"
+#include "../../../core/src/segmentation/ring_support.h"
 
 namespace clearway {
 namespace {
@@ -54,13 +55,18 @@ Rings rings(Raise&& raise) {
   return r;
 }
 
+// Each return's facing one on the next ring up, one degree of azimuth apart.
+detail::RingLayout layoutOf(const Scan& scan) {
+  return detail::ringLayout(scan, {0, 1, 2}, 1.0 * kDeg, 1);
+}
+
 std::size_t follow(Rings& r) {
   detail::OutwardGroundLimits limits;
   limits.off_plane = 0.1;    // the robot's step
   limits.per_metre = 0.005;  // 0.1 + 0.165 m at 33 m
   limits.max_slope = 1.0;    // 45 deg
-  return detail::followGroundOutward(r.scan, {0, 1, 2}, 1.0 * kDeg, r.planes, {0}, limits,
-                                     r.point_plane, 1);
+  return detail::followGroundOutward(r.scan, {0, 1, 2}, layoutOf(r.scan), r.planes, {0}, limits,
+                                     r.point_plane);
 }
 
 TEST(OutwardGround, FarRingsOnTheRoadJoinItsPlane) {
@@ -110,8 +116,8 @@ TEST(OutwardGround, ReturnsOnOtherPlanesKeepThemAndSteepRisesStayOff) {
   limits.off_plane = 0.1;
   limits.max_slope = 0.5;
   limits.noise = 0.02;
-  detail::followGroundOutward(steep.scan, {0, 1, 2}, 1.0 * kDeg, steep.planes, {0}, limits,
-                              steep.point_plane, 1);
+  detail::followGroundOutward(steep.scan, {0, 1, 2}, layoutOf(steep.scan), steep.planes, {0},
+                              limits, steep.point_plane);
   for (int a = 0; a < kAzimuths; ++a)
     EXPECT_EQ(steep.point_plane[Rings::index(1, a)], -1) << a;
 }

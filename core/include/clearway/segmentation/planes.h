@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "clearway/point_class.h"
@@ -14,6 +15,9 @@
 #include "clearway/segmentation/params.h"
 
 namespace clearway {
+namespace detail {
+struct RingLayout;  // src/segmentation/ring_support.h
+}  // namespace detail
 
 enum class PlaneKind : std::uint8_t { kUnknown, kGround, kWall, kCeiling, kOther };
 const char* planeKindName(PlaneKind kind);
@@ -107,6 +111,9 @@ struct SensorSpread {
   // the cells between them are supported too (src/segmentation/ring_support.h). Empty otherwise.
   std::vector<std::size_t> rings_by_elevation;
   double ring_azimuth_step = 0.0;
+  // Each return's facing return on the next ring up (src/segmentation/ring_support.h), when the
+  // caller worked it out for later stages too; null: validation works it out.
+  std::shared_ptr<const detail::RingLayout> ring_layout;
 };
 
 ValidatedPlanes validatePlanes(const Scan& scan, std::vector<Plane> candidates,
