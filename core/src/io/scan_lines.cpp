@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <map>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -179,15 +178,21 @@ std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) 
   // laser 1 one up, laser 2 13 down): numbers that jump to and fro in elevation are replaced by
   // the order of the rings' median elevation, lowest first. A driver writes each ring in
   // azimuth order, which is kept.
-  std::map<int, std::vector<double>> elevations;
+  std::vector<int> ring_of(ring_numbers.begin(), ring_numbers.end());
+  std::vector<std::vector<double>> elevations(
+      std::size_t(*std::max_element(ring_of.begin(), ring_of.end())) + 1);
+  std::vector<bool> present(elevations.size(), false);
   for (std::size_t i = 0; i < scan.size(); ++i) {
-    std::vector<double>& ring = elevations[int(ring_numbers[i])];
-    if (hasDirection(scan, i)) ring.push_back(directionOf(scan.points[i]).elevation);
+    present[std::size_t(ring_of[i])] = true;
+    if (hasDirection(scan, i))
+      elevations[std::size_t(ring_of[i])].push_back(directionOf(scan.points[i]).elevation);
   }
   std::vector<std::pair<double, int>> by_elevation;  // (median elevation, ring number)
-  for (auto& [ring, values] : elevations)
-    by_elevation.emplace_back(
-        values.empty() ? std::numeric_limits<double>::infinity() : median(std::move(values)), ring);
+  for (std::size_t ring = 0; ring < elevations.size(); ++ring)
+    if (present[ring])
+      by_elevation.emplace_back(elevations[ring].empty() ? std::numeric_limits<double>::infinity()
+                                                         : median(std::move(elevations[ring])),
+                                int(ring));
   // In number order the elevations run up (or down) with small swaps at most: seen from one
   // point, an HDL-64E's neighbouring lasers, which sit apart on the head, can trade places, and
   // their numbers are the true order. Jumping to and fro they travel much farther than from the
@@ -205,12 +210,11 @@ std::string groupIntoRings(Scan& scan, const std::vector<double>& ring_numbers) 
   if (travelled > kMostElevationTravel * (highest - lowest))
     std::stable_sort(by_elevation.begin(), by_elevation.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::map<int, int> rank_of;
+  std::vector<int> rank_of(elevations.size(), 0);
   for (std::size_t k = 0; k < by_elevation.size(); ++k)
-    rank_of[by_elevation[k].second] = int(k);
-  std::vector<int> ring_of(scan.size());
-  for (std::size_t i = 0; i < scan.size(); ++i)
-    ring_of[i] = rank_of[int(ring_numbers[i])];
+    rank_of[std::size_t(by_elevation[k].second)] = int(k);
+  for (int& ring : ring_of)
+    ring = rank_of[std::size_t(ring)];
   putInRings(scan, ring_of, {});
   return {};
 }
