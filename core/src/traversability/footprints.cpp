@@ -25,6 +25,12 @@ constexpr float kClearanceMarginCells = 1.0F;
 // far above the rounding of a coordinate of a few tens of metres.
 constexpr double kBoundsSlack = 1e-9;
 
+// Whether the centre of the cell (dx, dy) lies in a rectangle of half sizes (along, across)
+// [cells] turned to (c, s) = (cos, sin) of its yaw.
+bool inRectangle(int dx, int dy, double along, double across, double c, double s) {
+  return std::abs(dx * c + dy * s) <= along && std::abs(-dx * s + dy * c) <= across;
+}
+
 // Integer cell offsets whose centres lie in a rectangle of half sizes (along, across) [cells]
 // turned by yaw, outermost last.
 std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
@@ -33,7 +39,7 @@ std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
   std::vector<Offset> offsets;
   for (int dy = -reach; dy <= reach; ++dy)
     for (int dx = -reach; dx <= reach; ++dx)
-      if (std::abs(dx * c + dy * s) <= along && std::abs(-dx * s + dy * c) <= across)
+      if (inRectangle(dx, dy, along, across, c, s))
         offsets.push_back({dx, dy, float(dx * dx + dy * dy)});
   // Sorted by squared radius (exact integers), then turned into radii.
   std::sort(offsets.begin(), offsets.end(),
@@ -43,20 +49,35 @@ std::vector<Offset> rectangleOffsets(double along, double across, double yaw) {
   return offsets;
 }
 
-// The offsets of `outer` that are not in `inner` (both from rectangleOffsets), still sorted.
+// The same cells as rectangleOffsets, row by row. Along a row both of the rectangle's tests are
+// monotone in dx (rounding included), so its cells in a row are one unbroken span.
+std::vector<RowSpan> rectangleRows(double along, double across, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const int reach = int(std::ceil(std::hypot(along, across)));
+  std::vector<RowSpan> rows;
+  for (int dy = -reach; dy <= reach; ++dy) {
+    int first = reach + 1, last = -reach - 1;
+    for (int dx = -reach; dx <= reach; ++dx)
+      if (inRectangle(dx, dy, along, across, c, s)) {
+        first = std::min(first, dx);
+        last = std::max(last, dx);
+      }
+    if (first <= last) rows.push_back({dy, first, last});
+  }
+  return rows;
+}
+
+// The offsets of `outer` (from rectangleOffsets) whose cells are in no span of `inner`, still
+// sorted.
 std::vector<Offset> ringOffsets(const std::vector<Offset>& outer,
-                                const std::vector<Offset>& inner) {
-  int reach = 0;
-  for (const Offset& o : outer)
-    reach = std::max({reach, std::abs(o.dx), std::abs(o.dy)});
-  const int side = 2 * reach + 1;
-  std::vector<std::uint8_t> in_inner(std::size_t(side * side), 0);
-  for (const Offset& o : inner)
-    if (std::abs(o.dx) <= reach && std::abs(o.dy) <= reach)
-      in_inner[std::size_t((o.dy + reach) * side + o.dx + reach)] = 1;
+                                const std::vector<RowSpan>& inner) {
   std::vector<Offset> ring;
-  for (const Offset& o : outer)
-    if (!in_inner[std::size_t((o.dy + reach) * side + o.dx + reach)]) ring.push_back(o);
+  for (const Offset& o : outer) {
+    const bool inside = std::any_of(inner.begin(), inner.end(), [&o](const RowSpan& span) {
+      return span.dy == o.dy && o.dx >= span.first && o.dx <= span.last;
+    });
+    if (!inside) ring.push_back(o);
+  }
   return ring;
 }
 
@@ -136,10 +157,9 @@ Footprints makeFootprints(const RobotParams& robot, double resolution,
   f.rim.resize(yaws.size());
   parallelChunks(yaws.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t k = begin; k < end; ++k) {
-      f.enlarged[k] =
-          rectangleOffsets(along + kGreenMarginCells, across + kGreenMarginCells, yaws[k]);
-      f.core[k] = rectangleOffsets(std::max(0.0, along - kCoreInsetCells),
-                                   std::max(0.0, across - kCoreInsetCells), yaws[k]);
+      f.enlarged[k] = rectangleRows(along + kGreenMarginCells, across + kGreenMarginCells, yaws[k]);
+      f.core[k] = rectangleRows(std::max(0.0, along - kCoreInsetCells),
+                                std::max(0.0, across - kCoreInsetCells), yaws[k]);
       f.rim[k] = ringOffsets(
           rectangleOffsets(along + kRimReachCells, across + kRimReachCells, yaws[k]), f.core[k]);
     }
@@ -241,10 +261,12 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
           distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
   });
 
-  for (const auto* lists : {&footprints.enlarged, &footprints.rim})
-    for (const auto& offsets : *lists)
-      for (const Offset& o : offsets)
-        pad_ = std::max({pad_, std::abs(o.dx), std::abs(o.dy)});
+  for (const auto& offsets : footprints.rim)
+    for (const Offset& o : offsets)
+      pad_ = std::max({pad_, std::abs(o.dx), std::abs(o.dy)});
+  for (const auto& spans : footprints.enlarged)
+    for (const RowSpan& span : spans)
+      pad_ = std::max({pad_, std::abs(span.dy), std::abs(span.first), std::abs(span.last)});
   stride_ = grid.width + 2 * pad_;
   const std::size_t padded = std::size_t(stride_) * std::size_t(grid.height + 2 * pad_);
   strict_.assign(padded, 1);
@@ -276,7 +298,9 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
       }
     }
   const std::size_t slots = point_bounds_.size() * footprints.yaw.size();
-  extremes_.resize(slots);
+  // Left uninitialised: a slot is read only once its state says it was filled, and a multi-beam
+  // frame's map has hundreds of thousands of slots of which few are ever filled.
+  extremes_.reset(new Extremes[slots]);
   slot_state_ = std::make_unique<std::atomic<std::uint8_t>[]>(slots);  // all kSlotEmpty
   auto linear = [&](const std::vector<std::vector<Offset>>& lists) {
     std::vector<std::vector<std::ptrdiff_t>> result;
@@ -302,23 +326,13 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   };
   strict_counts_ = runningCounts(strict_);
   lenient_counts_ = runningCounts(lenient_);
-  auto runs = [&](const std::vector<std::vector<Offset>>& lists) {
+  auto runs = [&](const std::vector<std::vector<RowSpan>>& lists) {
     std::vector<std::vector<Run>> result;
-    for (const auto& offsets : lists) {
-      std::vector<Offset> by_row = offsets;
-      std::sort(by_row.begin(), by_row.end(), [](const Offset& a, const Offset& b) {
-        return a.dy != b.dy ? a.dy < b.dy : a.dx < b.dx;
-      });
+    for (const auto& spans : lists) {
       result.emplace_back();
-      for (std::size_t i = 0; i < by_row.size();) {
-        // A stretch of consecutive cells in one row (a rectangle's cells in a row always are).
-        std::size_t last = i;
-        while (last + 1 < by_row.size() && by_row[last + 1].dy == by_row[i].dy &&
-               by_row[last + 1].dx == by_row[last].dx + 1)
-          ++last;
-        const std::ptrdiff_t row_start = std::ptrdiff_t(by_row[i].dy) * (stride_ + 1);
-        result.back().push_back({row_start + by_row[i].dx, row_start + by_row[last].dx + 1});
-        i = last + 1;
+      for (const RowSpan& span : spans) {
+        const std::ptrdiff_t row_start = std::ptrdiff_t(span.dy) * (stride_ + 1);
+        result.back().push_back({row_start + span.first, row_start + span.last + 1});
       }
     }
     return result;

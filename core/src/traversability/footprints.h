@@ -53,10 +53,16 @@ struct Offset {
   float radius;  // cells
 };
 
+// The cells dx = first..last of row dy (offsets from the box's cell).
+struct RowSpan {
+  int dy, first, last;
+};
+
 struct Footprints {
-  std::vector<std::vector<Offset>> enlarged;  // nominal + kGreenMarginCells on every side
+  // Per orientation, row by row (a test of either is then one look per row, not per cell):
+  std::vector<std::vector<RowSpan>> enlarged;  // nominal + kGreenMarginCells on every side
   // Nominal less kCoreInsetCells on every side: blocks wherever it holds something that blocks.
-  std::vector<std::vector<Offset>> core;
+  std::vector<std::vector<RowSpan>> core;
   // Every cell that may hold a point inside the box, less the core (the exact check has cleared
   // the core before it looks at these).
   std::vector<std::vector<Offset>> rim;
@@ -65,7 +71,7 @@ struct Footprints {
   double outer_radius = 0.0;  // cells: beyond this nothing can touch the enlarged box
 };
 
-// All offsets sorted by radius, nearest first.
+// The rim's offsets sorted by radius, nearest first.
 Footprints makeFootprints(const RobotParams& robot, double resolution,
                           const std::vector<double>& yaws, int threads);
 
@@ -162,7 +168,7 @@ class FootprintTester {
   // bounds, and their slots of orientations in extremes_ (number * orientations + k).
   std::vector<std::uint32_t> point_cell_;
   std::vector<PointBounds> point_bounds_;
-  mutable std::vector<Extremes> extremes_;
+  mutable std::unique_ptr<Extremes[]> extremes_;
   enum SlotState : std::uint8_t { kSlotEmpty, kSlotFilling, kSlotReady };
   mutable std::unique_ptr<std::atomic<std::uint8_t>[]> slot_state_;
   // Per orientation, the rim's offsets as steps in the padded arrays.
