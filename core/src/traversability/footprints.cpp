@@ -154,12 +154,20 @@ Footprints makeFootprints(const RobotParams& robot, double resolution,
   f.yaw = yaws;
   f.enlarged.resize(yaws.size());
   f.core.resize(yaws.size());
+  f.deep.resize(yaws.size());
   f.rim.resize(yaws.size());
   parallelChunks(yaws.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t k = begin; k < end; ++k) {
       f.enlarged[k] = rectangleRows(along + kGreenMarginCells, across + kGreenMarginCells, yaws[k]);
       f.core[k] = rectangleRows(std::max(0.0, along - kCoreInsetCells),
                                 std::max(0.0, across - kCoreInsetCells), yaws[k]);
+      // The exact test's centres lie within this of the cell's along each axis of the box.
+      const double reach =
+          2.0 / kExactCentresPerAxis * (std::abs(std::cos(yaws[k])) + std::abs(std::sin(yaws[k])));
+      const double inset = reach + kDeepSlackCells;
+      f.deep[k] = along > inset && across > inset
+                      ? rectangleRows(along - inset, across - inset, yaws[k])
+                      : std::vector<RowSpan>{};
       f.rim[k] = ringOffsets(
           rectangleOffsets(along + kRimReachCells, across + kRimReachCells, yaws[k]), f.core[k]);
     }
@@ -313,19 +321,20 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   };
   // Running counts per padded row, and the footprints as runs along rows.
   const auto padded_rows = std::size_t(grid.height + 2 * pad_);
-  auto runningCounts = [&](const std::vector<std::uint8_t>& blocks) {
+  auto runningCounts = [&](const std::vector<std::uint8_t>& codes, std::uint8_t least) {
     std::vector<std::uint16_t> counts(padded_rows * std::size_t(stride_ + 1));
     for (std::size_t row = 0; row < padded_rows; ++row) {
-      const std::uint8_t* cells = blocks.data() + row * std::size_t(stride_);
+      const std::uint8_t* cells = codes.data() + row * std::size_t(stride_);
       std::uint16_t* running = counts.data() + row * std::size_t(stride_ + 1);
       running[0] = 0;
       for (std::size_t column = 0; column < std::size_t(stride_); ++column)
-        running[column + 1] = std::uint16_t(running[column] + (cells[column] != 0));
+        running[column + 1] = std::uint16_t(running[column] + (cells[column] >= least));
     }
     return counts;
   };
-  strict_counts_ = runningCounts(strict_);
-  lenient_counts_ = runningCounts(lenient_);
+  strict_counts_ = runningCounts(strict_, 1);
+  lenient_counts_ = runningCounts(lenient_, 1);
+  centre_counts_ = runningCounts(lenient_, 2);
   auto runs = [&](const std::vector<std::vector<RowSpan>>& lists) {
     std::vector<std::vector<Run>> result;
     for (const auto& spans : lists) {
@@ -339,6 +348,7 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   };
   enlarged_runs_ = runs(footprints.enlarged);
   core_runs_ = runs(footprints.core);
+  deep_runs_ = runs(footprints.deep);
   rim_ = linear(footprints.rim);
 
   // The 5 x 5 centres, the cell's centre first, then outwards.
@@ -441,6 +451,9 @@ bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) co
   // Cheap necessary condition first: nothing that blocks deep inside the box.
   const auto k = std::size_t(orientation);
   if (holdsBlocking(lenient_counts_, core_runs_[k], column, row)) return false;
+  // As cheap, and as sure: a cell that blocks by its centre, deep inside the box (the walk over
+  // the rim below would find it and stop there).
+  if (holdsBlocking(centre_counts_, deep_runs_[k], column, row)) return false;
   const float lenient_clearance = lenientClearance(column, row);
   const std::uint8_t* here = lenient_.data() + paddedIndex(column, row);
   // What could touch the box, gathered once in the box's own frame (u along, v across), then

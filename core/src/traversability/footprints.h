@@ -33,6 +33,13 @@ inline constexpr double kRimReachCells = 1.3;
 // no position can fit, so the exact test is not even tried.
 inline constexpr float kExactTestSlackCells = 2.3F;
 
+// The exact test tries the robot's centre at this many positions along each of the box's axes,
+// a fifth of a cell apart (the paper's finer discretisation).
+inline constexpr int kExactCentresPerAxis = 5;
+// How far inside the box, beyond the reach of the exact test's centres, a cell centre must lie to
+// count as deep (DeepCentres) [cells]: far above rounding, far below any distance that matters.
+inline constexpr double kDeepSlackCells = 1e-6;
+
 // Orientations closer than this are one [rad].
 inline constexpr double kSameYaw = 1e-2;
 // Orientation indices are stored in bytes (TraversabilityMap::orientation); kNoOrientation
@@ -63,6 +70,9 @@ struct Footprints {
   std::vector<std::vector<RowSpan>> enlarged;  // nominal + kGreenMarginCells on every side
   // Nominal less kCoreInsetCells on every side: blocks wherever it holds something that blocks.
   std::vector<std::vector<RowSpan>> core;
+  // Cells whose centres lie inside the nominal box wherever the exact test puts the robot's
+  // centre in its cell: an unobserved or blocked cell with no points there blocks every position.
+  std::vector<std::vector<RowSpan>> deep;
   // Every cell that may hold a point inside the box, less the core (the exact check has cleared
   // the core before it looks at these).
   std::vector<std::vector<Offset>> rim;
@@ -116,7 +126,7 @@ class FootprintTester {
 
  private:
   // The 5 x 5 centres of the exact test, in the order tried.
-  static constexpr int kCentresPerAxis = 5;
+  static constexpr int kCentresPerAxis = kExactCentresPerAxis;
   static constexpr int kCentres = kCentresPerAxis * kCentresPerAxis;
   // Per orientation, what the exact test needs, computed once.
   struct Turn {
@@ -177,14 +187,17 @@ class FootprintTester {
   // one more entry than the row has cells: a stretch of a row holds a blocking cell exactly when
   // the counts at its two ends differ (a stretch is shorter than 2^16 cells).
   std::vector<std::uint16_t> strict_counts_, lenient_counts_;
+  // The same of the cells that block by their centre (lenient code 2: unobserved, or blocked with
+  // no points), for the deep test.
+  std::vector<std::uint16_t> centre_counts_;
   // A footprint's cells in one row, as the two ends of that stretch relative to the cell's own
   // entry in the running counts.
   struct Run {
     std::ptrdiff_t start, end;
   };
-  // Per orientation, the enlarged box and the core as runs: a test of either is one look at each
-  // of its rows, not at each of its cells.
-  std::vector<std::vector<Run>> enlarged_runs_, core_runs_;
+  // Per orientation, the enlarged box, the core and the deep cells as runs: a test of any is one
+  // look at each of its rows, not at each of its cells.
+  std::vector<std::vector<Run>> enlarged_runs_, core_runs_, deep_runs_;
   std::size_t countsIndex(int column, int row) const {
     return std::size_t(row + pad_) * std::size_t(stride_ + 1) + std::size_t(column + pad_);
   }
