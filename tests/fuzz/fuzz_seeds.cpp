@@ -2,6 +2,8 @@
 // format and encoding (whole and cut short), LMS200 telegrams, turntable lines, parameter and scene
 // JSON. scripts/fuzz adds the heads of the real scans. Usage: fuzz_seeds FOLDER
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +37,30 @@ std::string readAll(const fs::path& file) {
 void putWithHead(const fs::path& folder, const std::string& name, const std::string& bytes) {
   put(folder, name, bytes);
   if (bytes.size() > kHeadBytes) put(folder, "head-" + name, bytes.substr(0, kHeadBytes));
+}
+
+// A scan as fuzz_pipeline reads it (tests/fuzz/pipeline_fuzzer.cpp): flags, line count, an
+// optional pose with no turn at `height` decimetres, then the points in millimetres.
+std::string encodePipelineInput(const clearway::Scan& scan, std::uint8_t flags, int height) {
+  std::string bytes = {char(flags), char(std::min<std::size_t>(scan.lines.size(), 64))};
+  if (flags & 2) bytes += std::string{0, 0, 0, 0, 0, char(height)};
+  auto put16 = [&bytes](double value) {
+    const auto v = std::uint16_t(std::int16_t(std::clamp(value, -32767.0, 32767.0)));
+    bytes += char(v & 0xFF);
+    bytes += char(v >> 8);
+  };
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const clearway::Point3f& p = scan.points[i];
+    if (!scan.isValid(i)) {
+      for (int k = 0; k < 3; ++k)
+        put16(-32768.0);
+      continue;
+    }
+    put16(p.x * 1000.0);
+    put16(p.y * 1000.0);
+    put16(p.z * 1000.0);
+  }
+  return bytes;
 }
 
 }  // namespace
@@ -97,6 +123,15 @@ int main(int argc, char** argv) {
                            "property float intensity\nend_header\n";
   binary_ply += kitti;
   putWithHead(root / "fuzz_ply_reader", "garage-binary.ply", binary_ply);
+
+  // The pipeline: the garage and the stairwell as scanned, with turntable angles, on a pose,
+  // re-run for another robot.
+  const fs::path pipeline = root / "fuzz_pipeline";
+  put(pipeline, "garage.bin", encodePipelineInput(scan, 0, 0));
+  put(pipeline, "garage-beta-rerun.bin", encodePipelineInput(scan, 1 | 4, 0));
+  const auto stairwell = *sim::builtinScene("stairwell");
+  const Scan stairs = sim::simulateRosi(stairwell, sensor, sim::defaultPlacement(stairwell)).scan;
+  put(pipeline, "stairwell-pose.bin", encodePipelineInput(stairs, 2, 0));
 
   put(root / "fuzz_params_json", "defaults.json", toJson(SegmentationParams{}).dump(2));
   for (const std::string& name : sim::builtinSceneNames())
