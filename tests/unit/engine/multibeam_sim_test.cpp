@@ -271,7 +271,14 @@ TEST_P(MultiBeamStreet, AFrameInFiringOrderWithoutARingFieldGetsItsRingsBack) {
 // KITTI file's rings start ahead, a driver's behind the sensor), turning the other way, starting
 // on either side of the back (+179.9 and -179.9 deg on neighbouring rings), and with returns a
 // step or three out of azimuth order, as a frame corrected for the vehicle's motion holds them.
-enum class RingStart { kBehind, kAhead, kClockwise, kEitherSideOfTheBack, kOutOfOrder };
+enum class RingStart {
+  kBehind,
+  kAhead,
+  kClockwise,
+  kEitherSideOfTheBack,
+  kOutOfOrder,
+  kTopRingFirst
+};
 
 Scan withRingsStarting(const Scan& frame, RingStart start) {
   Scan scan = frame;
@@ -296,7 +303,26 @@ Scan withRingsStarting(const Scan& frame, RingStart start) {
         for (std::size_t k = 40 + 13 * l % 97; k + 3 < ring.count; k += 97)
           std::swap(first[std::ptrdiff_t(k)], first[std::ptrdiff_t(k + 3)]);
         break;
+      case RingStart::kTopRingFirst:
+        break;
     }
+  }
+  if (start == RingStart::kTopRingFirst) {
+    Scan reversed = scan;
+    reversed.points.clear();
+    reversed.status.clear();
+    reversed.lines.clear();
+    for (std::size_t l = scan.lines.size(); l-- > 0;) {
+      const ScanLine& ring = scan.lines[l];
+      ScanLine line = ring;
+      line.first = reversed.points.size();
+      for (std::size_t i = ring.first; i < ring.first + ring.count; ++i) {
+        reversed.points.push_back(scan.points[i]);
+        reversed.status.push_back(scan.status[i]);
+      }
+      reversed.lines.push_back(line);
+    }
+    return reversed;
   }
   return scan;
 }
@@ -314,8 +340,9 @@ TEST(MultiBeamStreetMap, DoesNotDependOnWhereOrWhichWayItsRingsStart) {
   const auto traversable = std::count(reference.map.labels.begin(), reference.map.labels.end(),
                                       std::uint8_t(CellLabel::kTraversable));
   ASSERT_GT(traversable, 10000);
-  for (const RingStart start : {RingStart::kAhead, RingStart::kClockwise,
-                                RingStart::kEitherSideOfTheBack, RingStart::kOutOfOrder}) {
+  for (const RingStart start :
+       {RingStart::kAhead, RingStart::kClockwise, RingStart::kEitherSideOfTheBack,
+        RingStart::kOutOfOrder, RingStart::kTopRingFirst}) {
     const PipelineResult result =
         runPipeline(withRingsStarting(frame.scan, start), SegmentationParams{});
     ASSERT_TRUE(result.trusted()) << result.analysis->reason;
