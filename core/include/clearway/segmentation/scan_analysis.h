@@ -94,7 +94,9 @@ inline double heightOnPlane(const Eigen::Vector3d& c, double x, double y) {
 struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
-  std::vector<float> ground_height;        // per cell: that plane's map z at the cell centre
+  // Per cell: the local ground's map z, the lowest of the cell's ground points or the ground
+  // triangle's over its centre (not its plane's: an outdoor plane only approximates the ground).
+  std::vector<float> ground_height;
   // Per cell: the step [m] the cell stands for between two ground levels, 0 elsewhere: the one a
   // ground triangle joining two planes (a low kerb seen from above, its face unseen) or reaching
   // ground no plane took in spans over it, and where cells of two planes meet more than 5 cm
