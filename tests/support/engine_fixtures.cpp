@@ -111,4 +111,24 @@ bool connectedInMap(const SimulatedRun& run, const Eigen::Vector3d& from,
   return false;
 }
 
+Scan linesReversed(const Scan& scan) {
+  Scan reversed = scan;
+  reversed.points.clear();
+  reversed.status.clear();
+  reversed.intensity.clear();
+  reversed.lines.clear();
+  for (std::size_t l = scan.lines.size(); l-- > 0;) {
+    const ScanLine& stored = scan.lines[l];
+    ScanLine line = stored;
+    line.first = reversed.points.size();
+    for (std::size_t i = stored.first; i < stored.first + stored.count; ++i) {
+      reversed.points.push_back(scan.points[i]);
+      reversed.status.push_back(scan.status[i]);
+      if (!scan.intensity.empty()) reversed.intensity.push_back(scan.intensity[i]);
+    }
+    reversed.lines.push_back(line);
+  }
+  return reversed;
+}
+
 }  // namespace clearway::test

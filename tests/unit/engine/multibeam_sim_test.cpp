@@ -22,6 +22,7 @@
 #include "clearway/sensor_geometry.h"
 #include "clearway/sim/ray_caster.h"
 #include "clearway/sim/scene.h"
+#include "engine_fixtures.h"
 #include "test_support.h"
 
 namespace clearway {
@@ -307,23 +308,7 @@ Scan withRingsStarting(const Scan& frame, RingStart start) {
         break;
     }
   }
-  if (start == RingStart::kTopRingFirst) {
-    Scan reversed = scan;
-    reversed.points.clear();
-    reversed.status.clear();
-    reversed.lines.clear();
-    for (std::size_t l = scan.lines.size(); l-- > 0;) {
-      const ScanLine& ring = scan.lines[l];
-      ScanLine line = ring;
-      line.first = reversed.points.size();
-      for (std::size_t i = ring.first; i < ring.first + ring.count; ++i) {
-        reversed.points.push_back(scan.points[i]);
-        reversed.status.push_back(scan.status[i]);
-      }
-      reversed.lines.push_back(line);
-    }
-    return reversed;
-  }
+  if (start == RingStart::kTopRingFirst) return test::linesReversed(scan);
   return scan;
 }
 

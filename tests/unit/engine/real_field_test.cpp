@@ -19,6 +19,7 @@
 #include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
 #include "clearway/sensor_geometry.h"
+#include "engine_fixtures.h"
 #include "test_support.h"
 
 namespace clearway {
@@ -268,22 +269,7 @@ TEST_P(KittiFrame, TheMapStopsWhereTheRingsVouchForTheGround) {
 TEST_P(KittiFrame, TheMapHardlyDependsOnWhichWayItsRingsAreStored) {
   CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("kitti/") + GetParam());
   const Scan frame = loadScan(file);
-  Scan bottom_up = frame;
-  bottom_up.points.clear();
-  bottom_up.status.clear();
-  bottom_up.intensity.clear();
-  bottom_up.lines.clear();
-  for (std::size_t ring = frame.lines.size(); ring-- > 0;) {
-    const ScanLine& stored_line = frame.lines[ring];
-    ScanLine line = stored_line;
-    line.first = bottom_up.points.size();
-    for (std::size_t i = stored_line.first; i < stored_line.first + stored_line.count; ++i) {
-      bottom_up.points.push_back(frame.points[i]);
-      bottom_up.status.push_back(frame.status[i]);
-      if (!frame.intensity.empty()) bottom_up.intensity.push_back(frame.intensity[i]);
-    }
-    bottom_up.lines.push_back(line);
-  }
+  const Scan bottom_up = test::linesReversed(frame);
   auto traversable = [](const PipelineResult& result) {
     return double(result.map.counts[std::size_t(CellLabel::kTraversable)]);
   };
