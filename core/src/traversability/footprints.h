@@ -37,7 +37,8 @@ inline constexpr float kExactTestSlackCells = 2.3F;
 // a fifth of a cell apart (the paper's finer discretisation).
 inline constexpr int kExactCentresPerAxis = 5;
 // How far inside the box, beyond the reach of the exact test's centres, a cell centre must lie to
-// count as deep (DeepCentres) [cells]: far above rounding, far below any distance that matters.
+// count as deep (Footprints::deep) [cells]: far above rounding, far below any distance that
+// matters.
 inline constexpr double kDeepSlackCells = 1e-6;
 
 // Orientations closer than this are one [rad].
