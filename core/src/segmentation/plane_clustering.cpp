@@ -8,8 +8,10 @@
 #include <deque>
 #include <numbers>
 #include <numeric>
+#include <utility>
 
 #include "clearway/segmentation/planes.h"
+#include "parallel.h"
 
 namespace clearway {
 namespace {
@@ -117,7 +119,8 @@ class LineByAzimuth {
 std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<LineSegment>& segments,
                                                           std::size_t line_count,
                                                           const ClusterParams& params,
-                                                          const LineNeighbourhood& around) {
+                                                          const LineNeighbourhood& around,
+                                                          int threads) {
   std::vector<std::size_t> line_begin(line_count + 1, segments.size());
   for (std::size_t i = segments.size(); i-- > 0;)
     line_begin[segments[i].line] = i;
@@ -128,8 +131,11 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
   // fan lies in one vertical half-plane, where the azimuth tells its segments nothing apart.
   const bool rings = around.ring_step > 0.0;
   std::vector<Bearing> bearings(rings ? segments.size() : 0);
-  for (std::size_t i = 0; i < bearings.size(); ++i)
-    bearings[i] = bearingOf(segments[i]);
+  detail::parallelChunks(bearings.size(), threads,
+                         [&](std::size_t begin, std::size_t end, std::size_t) {
+                           for (std::size_t i = begin; i < end; ++i)
+                             bearings[i] = bearingOf(segments[i]);
+                         });
   std::vector<LineByAzimuth> by_azimuth;
   if (rings) {
     by_azimuth.reserve(line_count);
@@ -142,42 +148,60 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
   constexpr double kReachSlack = 1e-3;  // [m]
 
   const double cos_max = std::cos(params.max_angle_deg * std::numbers::pi / 180.0);
+  // The similar pairs (i, j), j on a line after i's, found for contiguous parts of the segments
+  // side by side; handed to both segments' lists part by part, in the order one thread would
+  // (the region growing below reads the lists in order).
+  using Pair = std::pair<std::uint32_t, std::uint32_t>;
+  constexpr std::size_t kPartsPerThread = 4;  // rings are uneven: a car's side, open road
+  std::vector<std::vector<Pair>> pairs(
+      detail::chunkCount(segments.size(), threads, kPartsPerThread));
+  detail::parallelChunks(
+      segments.size(), threads,
+      [&](std::size_t begin, std::size_t end, std::size_t part) {
+        std::vector<std::uint32_t> candidates;
+        for (std::size_t i = begin; i < end; ++i) {
+          const LineSegment& a = segments[i];
+          for (int step = 1; step <= params.neighbour_lines; ++step) {
+            // Wrap around: the last line of a full turn neighbours the first (not of a partial
+            // one).
+            if (!around.closed_turn && a.line + std::size_t(step) >= line_count) break;
+            const std::size_t line = (a.line + std::size_t(step)) % line_count;
+            if (line == a.line) break;
+            if (rings) {
+              const double reach =
+                  params.max_distance + std::max(0.0, params.distance_per_metre) * double(a.range) +
+                  farthest_gap + (double(a.length()) + by_azimuth[line].longest()) / 2 +
+                  kReachSlack;
+              by_azimuth[line].near(bearings[i], reach, candidates);
+            } else {
+              candidates.resize(line_begin[line + 1] - line_begin[line]);
+              std::iota(candidates.begin(), candidates.end(), std::uint32_t(line_begin[line]));
+            }
+            for (const std::uint32_t j : candidates) {
+              const LineSegment& b = segments[j];
+              if (std::abs(a.direction.dot(b.direction)) < cos_max) continue;
+              const double range = std::min(a.range, b.range);
+              const double allowed = params.max_distance + params.distance_per_metre * range +
+                                     ringGap(a, b, around, step);
+              // The segments lie at least this far apart (their midpoints' distance less their
+              // half lengths, less a float's rounding): most pairs of a ring's neighbours are
+              // ruled out without the exact distance.
+              constexpr float kRounding = 1e-4F;  // [m]
+              const float apart = (a.start + a.end - b.start - b.end).norm() / 2 -
+                                  (a.length() + b.length()) / 2 - kRounding;
+              if (apart > allowed || segmentDistance(a, b) > allowed) continue;
+              pairs[part].emplace_back(std::uint32_t(i), j);
+            }
+          }
+        }
+      },
+      kPartsPerThread);
   std::vector<std::vector<std::uint32_t>> neighbours(segments.size());
-  std::vector<std::uint32_t> candidates;
-  for (std::size_t i = 0; i < segments.size(); ++i) {
-    const LineSegment& a = segments[i];
-    for (int step = 1; step <= params.neighbour_lines; ++step) {
-      // Wrap around: the last line of a full turn neighbours the first (not of a partial one).
-      if (!around.closed_turn && a.line + std::size_t(step) >= line_count) break;
-      const std::size_t line = (a.line + std::size_t(step)) % line_count;
-      if (line == a.line) break;
-      if (rings) {
-        const double reach =
-            params.max_distance + std::max(0.0, params.distance_per_metre) * double(a.range) +
-            farthest_gap + (double(a.length()) + by_azimuth[line].longest()) / 2 + kReachSlack;
-        by_azimuth[line].near(bearings[i], reach, candidates);
-      } else {
-        candidates.resize(line_begin[line + 1] - line_begin[line]);
-        std::iota(candidates.begin(), candidates.end(), std::uint32_t(line_begin[line]));
-      }
-      for (const std::uint32_t j : candidates) {
-        const LineSegment& b = segments[j];
-        if (std::abs(a.direction.dot(b.direction)) < cos_max) continue;
-        const double range = std::min(a.range, b.range);
-        const double allowed =
-            params.max_distance + params.distance_per_metre * range + ringGap(a, b, around, step);
-        // The segments lie at least this far apart (their midpoints' distance less their half
-        // lengths, less a float's rounding): most pairs of a ring's neighbours are ruled out
-        // without the exact distance.
-        constexpr float kRounding = 1e-4F;  // [m]
-        const float apart = (a.start + a.end - b.start - b.end).norm() / 2 -
-                            (a.length() + b.length()) / 2 - kRounding;
-        if (apart > allowed || segmentDistance(a, b) > allowed) continue;
-        neighbours[i].push_back(std::uint32_t(j));
-        neighbours[j].push_back(std::uint32_t(i));
-      }
+  for (const std::vector<Pair>& part : pairs)
+    for (const auto& [i, j] : part) {
+      neighbours[i].push_back(j);
+      neighbours[j].push_back(i);
     }
-  }
   return neighbours;
 }
 
@@ -235,9 +259,9 @@ Plane fitPlane(const PointMoments& moments) {
 
 std::vector<Plane> clusterSegments(const std::vector<LineSegment>& segments, std::size_t line_count,
                                    const ClusterParams& params,
-                                   const LineNeighbourhood& neighbourhood) {
+                                   const LineNeighbourhood& neighbourhood, int threads) {
   if (segments.empty() || line_count == 0) return {};
-  const auto neighbours = similarNeighbours(segments, line_count, params, neighbourhood);
+  const auto neighbours = similarNeighbours(segments, line_count, params, neighbourhood, threads);
   const double sin_max_angle = std::sin(params.max_angle_deg * std::numbers::pi / 180.0);
 
   // Longest segments seed first: they carry the most reliable direction.

@@ -70,8 +70,8 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   neighbourhood.closed_turn = analysis.sensor.closed_turn;
   neighbourhood.ring_step = multi_beam ? analysis.sensor.between_line_step : 0.0;
   neighbourhood.up = analysis.up;
-  std::vector<Plane> candidates =
-      clusterSegments(analysis.segments, scan.lines.size(), params.clustering, neighbourhood);
+  std::vector<Plane> candidates = clusterSegments(analysis.segments, scan.lines.size(),
+                                                  params.clustering, neighbourhood, threads);
   analysis.candidate_planes = candidates.size();
   clock.stop("clustering");
   reportProgress(progress, 0.6);

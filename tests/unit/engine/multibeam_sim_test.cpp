@@ -317,6 +317,21 @@ Scan withRingsStarting(const Scan& frame, RingStart start) {
 // traversable cells on 000002.bin, against 80,094 with the same rings sorted by azimuth: the walk
 // that pairs neighbouring rings stopped at the first return out of order and joined no ground
 // beyond it.
+// The rings' segments are compared with the next rings' in parts, one per thread and more; the
+// parts are gathered in order, so the planes and the map do not depend on the number of threads.
+TEST(MultiBeamStreetMap, IsTheSameForAnyNumberOfThreads) {
+  const SimulatedFrame frame = simulateFrame(street(), kHeads[0]);
+  const PipelineResult one = runPipeline(frame.scan, SegmentationParams{}, 1);
+  ASSERT_TRUE(one.trusted()) << one.analysis->reason;
+  for (const int threads : {2, 3}) {
+    const PipelineResult result = runPipeline(frame.scan, SegmentationParams{}, threads);
+    EXPECT_EQ(result.analysis->planes.planes.size(), one.analysis->planes.planes.size());
+    EXPECT_TRUE(result.point_classes == one.point_classes) << threads << " threads";
+    EXPECT_TRUE(result.map.labels == one.map.labels) << threads << " threads";
+    EXPECT_TRUE(result.map.reach == one.map.reach) << threads << " threads";
+  }
+}
+
 TEST(MultiBeamStreetMap, DoesNotDependOnWhereOrWhichWayItsRingsStart) {
   const Head& head = kHeads[0];
   const SimulatedFrame frame = simulateFrame(street(), head);

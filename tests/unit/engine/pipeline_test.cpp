@@ -21,6 +21,32 @@ sim::SimulatedScan garage(int lines = 200) {
   return sim::simulateRosi(scene, sensor, sim::defaultPlacement(scene));
 }
 
+// Every parallel stage cuts its work into parts by the number of threads and gathers the parts in
+// order: planes, point classes, labels, reasons and reach do not depend on it (three threads cut
+// the work unevenly).
+void expectSameResult(const PipelineResult& result, const PipelineResult& reference,
+                      const std::string& what) {
+  ASSERT_EQ(result.trusted(), reference.trusted()) << what;
+  EXPECT_EQ(result.analysis->planes.planes.size(), reference.analysis->planes.planes.size())
+      << what;
+  EXPECT_TRUE(result.point_classes == reference.point_classes) << what;
+  EXPECT_TRUE(result.map.labels == reference.map.labels) << what;
+  EXPECT_TRUE(result.map.reasons == reference.map.reasons) << what;
+  EXPECT_TRUE(result.map.reach == reference.map.reach) << what;
+}
+
+TEST(Pipeline, GivesTheSameResultForAnyNumberOfThreads) {
+  const sim::SimulatedScan straight = garage(120);
+  const test::SimulatedRun tilted = test::simulateAndSegment("outdoor", 80, {}, 25.0, 12.0);
+  for (const Scan* scan : {&straight.scan, &tilted.simulated.scan}) {
+    const PipelineResult one = runPipeline(*scan, SegmentationParams{}, 1);
+    ASSERT_TRUE(one.trusted()) << one.reason;
+    for (const int threads : {2, 3})
+      expectSameResult(runPipeline(*scan, SegmentationParams{}, threads), one,
+                       std::to_string(threads) + " threads");
+  }
+}
+
 TEST(Params, DefaultsAreValidAndRoundTripThroughJson) {
   const SegmentationParams defaults;
   EXPECT_TRUE(defaults.validate().empty());

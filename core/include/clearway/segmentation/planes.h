@@ -56,9 +56,11 @@ struct LineNeighbourhood {
   Eigen::Vector3d up = Eigen::Vector3d::UnitZ();  // gravity's up in the scan's frame
 };
 
+// `threads`: the search for similar segments of neighbouring lines is shared out; the planes are
+// the same for any number.
 std::vector<Plane> clusterSegments(const std::vector<LineSegment>& segments, std::size_t line_count,
                                    const ClusterParams& params,
-                                   const LineNeighbourhood& neighbourhood = {});
+                                   const LineNeighbourhood& neighbourhood = {}, int threads = 1);
 
 // Support image of one plane: which cells of its 2D grid hold a connected supported area.
 struct SupportImage {
