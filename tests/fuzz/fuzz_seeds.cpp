@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
   // re-run for another robot.
   const fs::path pipeline = root / "fuzz_pipeline";
   put(pipeline, "garage.bin", encodePipelineInput(scan, 0, 0));
-  put(pipeline, "garage-beta-rerun.bin", encodePipelineInput(scan, 1 | 4, 0));
+  put(pipeline, "garage-beta-rerun-two-threads.bin", encodePipelineInput(scan, 1 | 4 | 8, 0));
   const auto stairwell = *sim::builtinScene("stairwell");
   const Scan stairs = sim::simulateRosi(stairwell, sensor, sim::defaultPlacement(stairwell)).scan;
   put(pipeline, "stairwell-pose.bin", encodePipelineInput(stairs, 2, 0));

@@ -2,12 +2,12 @@
 // result, trusted or with a reason, without a crash, a sanitizer report or a hang; a result it
 // does not trust shows nothing traversable (the safety rule), and a re-run for another robot on
 // the same analysis keeps that rule too. The readers have harnesses of their own: here the
-// geometry is arbitrary (all points on one spot, on one line, kilometres apart, half of them no
-// returns), not the bytes of a file.
+// geometry is arbitrary (all points on one spot, on one line, tens of metres apart, half of them
+// no returns), not the bytes of a file. With two threads, the result must be the one thread's.
 //
 // Input (see encodePipelineInput in fuzz_seeds.cpp, which writes the seeds):
 //   byte 0   flags: 1 the lines carry turntable angles (beta), 2 a sensor pose follows,
-//            4 re-run for a narrower and taller robot
+//            4 re-run for a narrower and taller robot, 8 also run with two threads
 //   byte 1   number of lines, 1-64 (0 counts as 1)
 //   [pose]   6 bytes when flag 2: roll, pitch, yaw (signed, degrees) and x, y, z (signed, dm)
 //   points   x y z as little-endian int16 millimetres (-32768: no return), dealt out line by line
@@ -26,7 +26,7 @@
 
 namespace {
 
-constexpr std::uint8_t kFlagBeta = 1, kFlagPose = 2, kFlagRerun = 4;
+constexpr std::uint8_t kFlagBeta = 1, kFlagPose = 2, kFlagRerun = 4, kFlagTwoThreads = 8;
 constexpr std::int16_t kNoReturn = -32768;
 constexpr std::size_t kPoseBytes = 6, kPointBytes = 6;
 // A few thousand points keep an execution within milliseconds under the sanitizers.
@@ -102,6 +102,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const clearway::SegmentationParams params;
     const clearway::PipelineResult result = clearway::runPipeline(scan, params, 1);
     checkResult(result);
+    if (flags & kFlagTwoThreads) {
+      // Every parallel stage gathers its parts in order: the same answer as one thread's.
+      const clearway::PipelineResult two = clearway::runPipeline(scan, params, 2);
+      if (two.map.labels != result.map.labels || two.point_classes != result.point_classes)
+        __builtin_trap();
+    }
     if (flags & kFlagRerun) {
       clearway::SegmentationParams other = params;
       other.robot.width = 0.5;
