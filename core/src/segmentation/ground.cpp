@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -254,6 +255,95 @@ std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_
     if (plane >= 0 && dropped[std::size_t(plane)]) plane = -1;
   std::erase_if(analysis.ground_planes, [&](int g) { return dropped[std::size_t(g)]; });
   return waiting.size();
+}
+
+namespace {
+
+// The columns the ground's returns are compared in [m]: a tenth of a metre, far narrower than
+// anything the robot drives on and wide enough to hold the returns of several rings on a face;
+// wider when the ground spreads so far that such columns would pass kMostColumns.
+constexpr double kColumnSize = 0.1;
+constexpr double kMostColumns = 1 << 20;
+
+// A ground plane is a surface the robot stands on only if most of its returns lie on top of their
+// columns; on a face or over one, the rings see past it.
+constexpr double kMostlyOver = 0.5;
+
+}  // namespace
+
+std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double max_slope_deg,
+                                       ScanAnalysis& analysis) {
+  if (!analysis.ground_found) return 0;
+  std::vector<std::int32_t>& point_plane = analysis.planes.point_plane;
+  const std::vector<Plane>& planes = analysis.planes.planes;
+  std::vector<bool> is_ground(planes.size(), false);
+  for (const int g : analysis.ground_planes)
+    is_ground[std::size_t(g)] = true;
+  // In the map frame, z up: only the height and the column matter.
+  const Eigen::Matrix3f rotation = analysis.map_from_scanner.linear().cast<float>();
+  auto mapped = [&](std::size_t i) {
+    const Point3f& p = scan.points[i];
+    return Eigen::Vector3f(rotation * Eigen::Vector3f(p.x, p.y, p.z));
+  };
+  // The ground returns and the columns they span.
+  std::vector<std::uint32_t> ground;
+  std::vector<Eigen::Vector3f> ground_mapped;
+  Eigen::AlignedBox2f box;
+  for (std::size_t i = 0; i < point_plane.size(); ++i) {
+    if (point_plane[i] < 0 || !is_ground[std::size_t(point_plane[i])] || !scan.isValid(i)) continue;
+    ground.push_back(std::uint32_t(i));
+    ground_mapped.push_back(mapped(i));
+    box.extend(ground_mapped.back().head<2>());
+  }
+  if (ground.empty()) return 0;
+  const Eigen::Vector2d origin = box.min().cast<double>();
+  const Eigen::Vector2d sizes = box.sizes().cast<double>();
+  const double size = std::max(
+      kColumnSize, std::sqrt((sizes.x() + kColumnSize) * (sizes.y() + kColumnSize) / kMostColumns));
+  const int columns = int(std::floor(sizes.x() / size)) + 1;
+  const int rows = int(std::floor(sizes.y() / size)) + 1;
+  // Across a column, ground as steep as the robot drives rises this much: a return lower than a
+  // ground return by more than that and a step lies under it.
+  const double below = max_rise + size * std::tan(max_slope_deg * std::numbers::pi / 180.0);
+  std::vector<float> lowest(std::size_t(columns) * std::size_t(rows),
+                            std::numeric_limits<float>::infinity());
+  // Every return is placed: a multiplication, and bounds tested before the truncation.
+  const double per_size = 1.0 / size;
+  auto columnOf = [&](const Eigen::Vector3f& q) -> std::ptrdiff_t {
+    const double column = (double(q.x()) - origin.x()) * per_size;
+    const double row = (double(q.y()) - origin.y()) * per_size;
+    if (!(column >= 0.0 && row >= 0.0 && column < columns && row < rows)) return -1;
+    return std::ptrdiff_t(row) * columns + std::ptrdiff_t(column);
+  };
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    const Eigen::Vector3f q = mapped(i);
+    const std::ptrdiff_t column = columnOf(q);
+    if (column >= 0) lowest[std::size_t(column)] = std::min(lowest[std::size_t(column)], q.z());
+  }
+  std::vector<std::size_t> own(planes.size(), 0), over(planes.size(), 0);
+  std::vector<bool> is_over(ground.size(), false);
+  for (std::size_t n = 0; n < ground.size(); ++n) {
+    const Eigen::Vector3f& q = ground_mapped[n];
+    const std::size_t plane = std::size_t(point_plane[ground[n]]);
+    const std::ptrdiff_t column = columnOf(q);
+    is_over[n] = column >= 0 && double(q.z()) - double(lowest[std::size_t(column)]) > below;
+    ++own[plane];
+    over[plane] += is_over[n];
+  }
+  std::vector<bool> dropped(planes.size(), false);
+  std::size_t count = 0;
+  for (const int g : analysis.ground_planes) {
+    const auto k = std::size_t(g);
+    if (g == analysis.reference_ground || double(over[k]) <= kMostlyOver * double(own[k])) continue;
+    dropped[k] = true;
+    analysis.planes.planes[k].kind = PlaneKind::kOther;
+    ++count;
+  }
+  for (std::size_t n = 0; n < ground.size(); ++n)
+    if (is_over[n] || dropped[std::size_t(point_plane[ground[n]])]) point_plane[ground[n]] = -1;
+  std::erase_if(analysis.ground_planes, [&](int g) { return dropped[std::size_t(g)]; });
+  return count;
 }
 
 }  // namespace clearway

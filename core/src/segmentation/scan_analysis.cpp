@@ -132,6 +132,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   }
   if (multi_beam) {
     absorbGroundPatches(scan, params.validation, spread, analysis);
+    dropGroundOverLowerReturns(scan, params.robot.max_step, params.ground.max_slope_deg, analysis);
     dropUnreachableGround(scan, params.robot.max_step, params.robot.width, analysis);
     if (analysis.ground_found) {
       detail::OutwardGroundLimits limits;

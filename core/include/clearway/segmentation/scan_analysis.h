@@ -178,6 +178,12 @@ std::size_t absorbGroundPatches(const Scan& scan, const ValidationParams& valida
 // many planes were dropped.
 std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_width,
                                   ScanAnalysis& analysis);
+// Multi-beam frames: ground is the lowest surface in its column. A ground plane most of whose own
+// returns have a return lower by more than a step (and a drivable slope's rise) in the same column
+// is a plane fitted along a face (a hedge, a wall's foot) or over one (its top): it stops being
+// ground, its points on no plane. Returns how many planes were dropped.
+std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double max_slope_deg,
+                                       ScanAnalysis& analysis);
 // The robot-independent map inputs of an analysis whose ground is selected (stairs detected).
 MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                            const ScanAnalysis& analysis, int threads = 2);
