@@ -8,6 +8,26 @@ if(CLEARWAY_FUZZ AND NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
                       "${CMAKE_CXX_COMPILER_ID}")
 endif()
 
+# The instruction set of Clearway's own code. x86-64-v2 (SSE4.2, POPCNT; every x86-64 processor
+# since 2009) rounds with one instruction where the baseline calls a dozen (std::floor, std::ceil
+# in every cell and triangle loop) and counts bits in one: 3.5 % fewer instructions per scan, maps
+# byte-identical (no FMA, no reassociation: the same IEEE results). Used only when the compiler
+# takes it and the build machine runs it; set it empty to build for any x86-64 (docs/PERFORMANCE.md).
+set(CLEARWAY_ARCH "x86-64-v2" CACHE STRING "-march for Clearway's own code (empty: the compiler's default)")
+set(CLEARWAY_ARCH_FLAG "")
+if(CLEARWAY_ARCH AND CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
+  include(CheckCXXSourceRuns)
+  set(CMAKE_REQUIRED_FLAGS "-march=${CLEARWAY_ARCH}")
+  check_cxx_source_runs("int main() { __builtin_cpu_init(); return __builtin_cpu_supports(\"sse4.2\") && __builtin_cpu_supports(\"popcnt\") ? 0 : 1; }"
+                        CLEARWAY_ARCH_RUNS)
+  unset(CMAKE_REQUIRED_FLAGS)
+  if(CLEARWAY_ARCH_RUNS)
+    set(CLEARWAY_ARCH_FLAG "-march=${CLEARWAY_ARCH}")
+  else()
+    message(STATUS "Clearway: -march=${CLEARWAY_ARCH} not usable here; building for the default")
+  endif()
+endif()
+
 find_program(CLEARWAY_CCACHE ccache)
 if(CLEARWAY_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
   set(CMAKE_C_COMPILER_LAUNCHER ${CLEARWAY_CCACHE})
@@ -17,6 +37,9 @@ endif()
 function(clearway_target_defaults target)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
                                            -Wold-style-cast -Wcast-align -Woverloaded-virtual)
+  if(CLEARWAY_ARCH_FLAG)
+    target_compile_options(${target} PRIVATE ${CLEARWAY_ARCH_FLAG})
+  endif()
   if(CLEARWAY_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
