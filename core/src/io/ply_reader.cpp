@@ -51,10 +51,13 @@ int scalarSize(const std::string& type) {
 }
 
 double readScalar(const char* at, const std::string& type, bool swap) {
-  char buffer[8];
-  const int size = scalarSize(type);
-  std::memcpy(buffer, at, std::size_t(size));
-  if (swap) std::reverse(buffer, buffer + size);
+  char buffer[8] = {};
+  // At most the buffer (scalarSize never says more): bounded, so the compiler can see it.
+  const std::size_t size = std::min(std::size_t(scalarSize(type)), sizeof buffer);
+  std::memcpy(buffer, at, size);
+  if (swap)
+    for (std::size_t i = 0; i < size / 2; ++i)
+      std::swap(buffer[i], buffer[size - 1 - i]);
   auto as = [&buffer]<typename T>(T) {
     T value;
     std::memcpy(&value, buffer, sizeof(T));

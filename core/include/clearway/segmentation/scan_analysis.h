@@ -178,10 +178,11 @@ std::size_t absorbGroundPatches(const Scan& scan, const ValidationParams& valida
 // many planes were dropped.
 std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_width,
                                   ScanAnalysis& analysis);
-// Multi-beam frames: ground is the lowest surface in its column. A ground plane most of whose own
-// returns have a return lower by more than a step (and a drivable slope's rise) in the same column
-// is a plane fitted along a face (a hedge, a wall's foot) or over one (its top): it stops being
-// ground, its points on no plane. Returns how many planes were dropped.
+// Ground is the lowest surface in its column (any sensor). A ground return with a return lower by
+// more than a step (and a drivable slope's rise) in its column goes to no plane; a ground plane
+// other than the reference most of whose returns are such is a plane fitted along a face (a
+// hedge, a wall's foot) or over one (its top, a table): it stops being ground. Returns how many
+// planes were dropped.
 std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double max_slope_deg,
                                        ScanAnalysis& analysis);
 // The robot-independent map inputs of an analysis whose ground is selected (stairs detected).
