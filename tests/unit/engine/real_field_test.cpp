@@ -513,6 +513,29 @@ TEST_P(KittiFrame, OpenRoadIsShownAndNothingGreenStandsOnAnObstacle) {
   EXPECT_EQ(figures.green_over_obstacle, 0u);
 }
 
+// ---- A room: ground is the lowest surface in its column ----
+
+// The PCL room's table top, 0.72 m above the floor, is flat, below the scanner and large: it was a
+// ground plane (4,134 returns) although the floor is seen under it. Ground returns more than
+// 0.5 m above the reference ground (the floor) must be few.
+TEST(RoomScan, TheTableTopIsNotGround) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, "pcl-room/room_scan1.pcd");
+  const Scan scan = loadScan(file);
+  const PipelineResult result = runPipeline(scan, SegmentationParams{});
+  ASSERT_TRUE(result.trusted()) << result.reason;
+  std::size_t ground = 0, raised = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (result.point_classes[i] != PointClass::kGround) continue;
+    ++ground;
+    // The map frame's z is the height above the reference ground.
+    raised += (result.analysis->map_from_scanner * pointAt(scan, i)).z() > 0.5;
+  }
+  std::cout << "[ figures  ] " << raised << " of " << ground
+            << " ground returns more than 0.5 m above the floor\n";
+  EXPECT_GT(ground, 5000u);
+  EXPECT_LT(double(raised), 0.01 * double(ground));
+}
+
 // ---- The seam: where the turn starts does not change the map ----
 
 // The same scan with its lines turned: line k becomes line (k + shift) mod n, so the turn starts
