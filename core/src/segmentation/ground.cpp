@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "clearway/segmentation/scan_analysis.h"
+#include "parallel.h"
 
 namespace clearway {
 
@@ -272,7 +273,7 @@ constexpr double kMostlyOver = 0.5;
 }  // namespace
 
 std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double max_slope_deg,
-                                       ScanAnalysis& analysis) {
+                                       ScanAnalysis& analysis, int threads) {
   if (!analysis.ground_found) return 0;
   std::vector<std::int32_t>& point_plane = analysis.planes.point_plane;
   const std::vector<Plane>& planes = analysis.planes.planes;
@@ -305,8 +306,6 @@ std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double
   // Across a column, ground as steep as the robot drives rises this much: a return lower than a
   // ground return by more than that and a step lies under it.
   const double below = max_rise + size * std::tan(max_slope_deg * std::numbers::pi / 180.0);
-  std::vector<float> lowest(std::size_t(columns) * std::size_t(rows),
-                            std::numeric_limits<float>::infinity());
   // Every return is placed: a multiplication, and bounds tested before the truncation.
   const double per_size = 1.0 / size;
   auto columnOf = [&](const Eigen::Vector3f& q) -> std::ptrdiff_t {
@@ -315,12 +314,26 @@ std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double
     if (!(column >= 0.0 && row >= 0.0 && column < columns && row < rows)) return -1;
     return std::ptrdiff_t(row) * columns + std::ptrdiff_t(column);
   };
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    if (!scan.isValid(i)) continue;
-    const Eigen::Vector3f q = mapped(i);
-    const std::ptrdiff_t column = columnOf(q);
-    if (column >= 0) lowest[std::size_t(column)] = std::min(lowest[std::size_t(column)], q.z());
-  }
+  // Each part of the scan finds its own lowest returns, then the parts' are merged (a minimum
+  // in any order is the same).
+  const std::size_t cells = std::size_t(columns) * std::size_t(rows);
+  std::vector<std::vector<float>> part_lowest(detail::chunkCount(scan.size(), threads));
+  detail::parallelChunks(
+      scan.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
+        std::vector<float>& lowest = part_lowest[part];
+        lowest.assign(cells, std::numeric_limits<float>::infinity());
+        for (std::size_t i = begin; i < end; ++i) {
+          if (!scan.isValid(i)) continue;
+          const Eigen::Vector3f q = mapped(i);
+          const std::ptrdiff_t column = columnOf(q);
+          if (column >= 0)
+            lowest[std::size_t(column)] = std::min(lowest[std::size_t(column)], q.z());
+        }
+      });
+  std::vector<float> lowest = std::move(part_lowest.front());
+  for (std::size_t part = 1; part < part_lowest.size(); ++part)
+    for (std::size_t cell = 0; cell < cells; ++cell)
+      lowest[cell] = std::min(lowest[cell], part_lowest[part][cell]);
   std::vector<std::size_t> own(planes.size(), 0), over(planes.size(), 0);
   std::vector<bool> is_over(ground.size(), false);
   for (std::size_t n = 0; n < ground.size(); ++n) {

@@ -132,7 +132,8 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   }
   if (multi_beam) absorbGroundPatches(scan, params.validation, spread, analysis);
   // Any sensor: ground is the lowest surface in its column (a table top is not).
-  dropGroundOverLowerReturns(scan, params.robot.max_step, params.ground.max_slope_deg, analysis);
+  dropGroundOverLowerReturns(scan, params.robot.max_step, params.ground.max_slope_deg, analysis,
+                             threads);
   if (multi_beam) {
     dropUnreachableGround(scan, params.robot.max_step, params.robot.width, analysis);
     if (analysis.ground_found) {

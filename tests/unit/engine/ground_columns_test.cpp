@@ -72,7 +72,8 @@ TEST(GroundColumns, APlaneOverAFaceIsNotGroundAndGroundBesideItStays) {
   const std::size_t road = built.pointsOn(0), pavement = built.pointsOn(2),
                     ramp = built.pointsOn(3);
 
-  EXPECT_EQ(dropGroundOverLowerReturns(built.scan, kStep, kMaxSlopeDeg, built.analysis), 1u);
+  // Three threads: the scan's parts find their lowest returns apart, merged after.
+  EXPECT_EQ(dropGroundOverLowerReturns(built.scan, kStep, kMaxSlopeDeg, built.analysis, 3), 1u);
   EXPECT_EQ(built.analysis.planes.planes[1].kind, PlaneKind::kOther);
   EXPECT_EQ(built.pointsOn(1), 0u);
   EXPECT_EQ(built.analysis.ground_planes, (std::vector<int>{0, 2, 3}));

@@ -184,7 +184,7 @@ std::size_t dropUnreachableGround(const Scan& scan, double max_rise, double min_
 // hedge, a wall's foot) or over one (its top, a table): it stops being ground. Returns how many
 // planes were dropped.
 std::size_t dropGroundOverLowerReturns(const Scan& scan, double max_rise, double max_slope_deg,
-                                       ScanAnalysis& analysis);
+                                       ScanAnalysis& analysis, int threads = 2);
 // The robot-independent map inputs of an analysis whose ground is selected (stairs detected).
 MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                            const ScanAnalysis& analysis, int threads = 2);
