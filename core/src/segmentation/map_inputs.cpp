@@ -249,12 +249,11 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
   // The cells of triangle t whose centres it covers, in rows [row_begin, row_end).
   auto fillTriangle = [&](std::uint32_t t, int row_begin, int row_end) {
     const std::array<std::uint32_t, 3> triangle = pointsOf(t);
-    const Eigen::Vector2d a = mapped[triangle[0]].head<2>().cast<double>(),
-                          b = mapped[triangle[1]].head<2>().cast<double>(),
-                          c = mapped[triangle[2]].head<2>().cast<double>();
     const auto [low_row, high_row] = rowsOf(triangle);
     // Scanline fill: per row, the triangle's x-interval at the row's centre line.
-    const Eigen::Vector2d corners[3] = {a, b, c};
+    const Eigen::Vector2d corners[3] = {mapped[triangle[0]].head<2>().cast<double>(),
+                                        mapped[triangle[1]].head<2>().cast<double>(),
+                                        mapped[triangle[2]].head<2>().cast<double>()};
     // The triangle's height over the map: z = h0 + hx x + hy y through its corners, from
     // its normal (closed form: a QR solve per triangle was a tenth of a multi-beam frame's
     // time). A triangle flat in x-y covers no cell centre; it keeps its first corner's z.
