@@ -18,10 +18,13 @@ set(CLEARWAY_ARCH_FLAG "")
 if(CLEARWAY_ARCH AND CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
   include(CheckCXXSourceRuns)
   set(CMAKE_REQUIRED_FLAGS "-march=${CLEARWAY_ARCH}")
+  # The check's result is cached per architecture: another -DCLEARWAY_ARCH is checked afresh. It
+  # asks the processor for x86-64-v2's features; a higher level is the builder's to vouch for.
+  string(MAKE_C_IDENTIFIER "CLEARWAY_ARCH_RUNS_${CLEARWAY_ARCH}" arch_runs)
   check_cxx_source_runs("int main() { __builtin_cpu_init(); return __builtin_cpu_supports(\"sse4.2\") && __builtin_cpu_supports(\"popcnt\") ? 0 : 1; }"
-                        CLEARWAY_ARCH_RUNS)
+                        ${arch_runs})
   unset(CMAKE_REQUIRED_FLAGS)
-  if(CLEARWAY_ARCH_RUNS)
+  if(${arch_runs})
     set(CLEARWAY_ARCH_FLAG "-march=${CLEARWAY_ARCH}")
   else()
     message(STATUS "Clearway: -march=${CLEARWAY_ARCH} not usable here; building for the default")
