@@ -1,6 +1,7 @@
 #include "clearway/sensor_geometry.h"
 
 #include <Eigen/Core>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -79,7 +80,14 @@ struct LineShape {
   // for each back-and-forth of noise. It only tells rings (a full turn) from fans.
   double azimuth_sweep = 0.0;
   double azimuth = 0.0;  // direction of the line's points about z (vector mean) [rad]
-  double step = 0.0;     // median angle between neighbouring returns [rad]
+  // A fan's plane: fitted to its points (the scanner may sit half a metre from the file's
+  // origin, as octomap's does, so the plane need not hold the origin), else, where they lie on a
+  // line (a fan that met one flat surface), the plane through the origin and that line. Its
+  // normal, and the sum of the points' directions: which way in its plane the fan points.
+  bool has_plane = false;  // fitted: the file gives no turntable angle and it has 3 samples
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d direction_sum = Eigen::Vector3d::Zero();
+  double step = 0.0;  // median angle between neighbouring returns [rad]
   // A multi-beam ring: a full turn of azimuth, or a partial one at one elevation (a cone).
   bool ring = false;
 };
@@ -117,6 +125,25 @@ void forSampledDirections(const Scan& scan, const ScanLine& line, Visit&& visit)
   }
 }
 
+// A fan's plane is fitted to every this many of its samples (at most kStepsPerLine).
+constexpr std::size_t kPlaneSampleStride = 4;
+
+// Points spread across the line they lie along by less than this share of their spread along
+// it (as variances: 1 % as lengths) lie on a line, and give no plane of their own.
+constexpr double kLeastPlanarSpread = 1e-4;
+
+// The normal of a fan's plane: fitted to its `count` points (their sum and the sum of their outer
+// products), or where they lie on a line, to their directions from the origin.
+Eigen::Vector3d fanNormal(const Eigen::Matrix3d& point_scatter, const Eigen::Vector3d& point_sum,
+                          double count, const Eigen::Matrix3d& direction_scatter) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> fit;
+  fit.computeDirect(point_scatter - point_sum * point_sum.transpose() / count);
+  const Eigen::Vector3d& spread = fit.eigenvalues();  // ascending
+  if (spread(1) > kLeastPlanarSpread * spread(2)) return fit.eigenvectors().col(0);
+  fit.computeDirect(direction_scatter);
+  return fit.eigenvectors().col(0);
+}
+
 // Everything but the elevation, which only rings need (medianElevation): a RoSi scan has
 // thousands of lines, and the elevations' median was a quarter of their description's time.
 LineShape shapeOf(const Scan& scan, const ScanLine& line) {
@@ -128,16 +155,29 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
   step_cosines.clear();
   step_gaps.clear();
   elevation_sines.clear();
-  double sum_x = 0.0, sum_y = 0.0;
   bool has_previous = false;
   Eigen::Vector3d previous = Eigen::Vector3d::Zero();
   double previous_azimuth = 0.0;
   std::size_t previous_index = 0;
+  const bool fit_plane = !std::isfinite(line.beta);
+  std::size_t samples = 0, plane_samples = 0;
+  Eigen::Matrix3d direction_scatter = Eigen::Matrix3d::Zero(),
+                  point_scatter = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d point_sum = Eigen::Vector3d::Zero();
   forSampledDirections(scan, line, [&](std::size_t i, const Eigen::Vector3d& direction) {
     const double azimuth = pseudoAngle(direction.x(), direction.y());
     elevation_sines.push_back(std::clamp(direction.z(), -1.0, 1.0));
-    sum_x += direction.x();
-    sum_y += direction.y();
+    // The fan's plane, only where the file gives no turntable angle (a RoSi's lines carry it),
+    // from every kPlaneSampleStride-th sample: a few dozen points fit a plane.
+    shape.direction_sum += direction;
+    if (fit_plane && samples++ % kPlaneSampleStride == 0) {
+      direction_scatter.noalias() += direction * direction.transpose();
+      const Point3f& p = scan.points[i];
+      const Eigen::Vector3d position(p.x, p.y, p.z);
+      point_sum += position;
+      point_scatter.noalias() += position * position.transpose();
+      ++plane_samples;
+    }
     if (has_previous) {
       shape.azimuth_sweep += std::abs(wrapPseudoDifference(azimuth - previous_azimuth));
       // The mean step over the returns between the two samples (invalid ones included).
@@ -152,8 +192,11 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
   if (step_cosines.empty()) return shape;
   shape.usable = true;
   shape.azimuth_sweep *= 2.0 * kPi / kPseudoTurn;
-  shape.azimuth = std::atan2(sum_y, sum_x);
+  shape.azimuth = std::atan2(shape.direction_sum.y(), shape.direction_sum.x());
   shape.step = medianStep(step_cosines, step_gaps);
+  shape.has_plane = plane_samples >= 3;
+  if (shape.has_plane)
+    shape.normal = fanNormal(point_scatter, point_sum, double(plane_samples), direction_scatter);
   shape.ring = shape.azimuth_sweep >= kRingSweep;
   if (!shape.ring && shape.azimuth_sweep >= kPartialRingSweep) {
     // Only lines that sweep some azimuth pay for the quantiles (a RoSi's fans sweep none).
@@ -178,6 +221,50 @@ double medianElevation(const Scan& scan, const ScanLine& line) {
     elevation_sines.push_back(std::clamp(direction.z(), -1.0, 1.0));
   });
   return std::asin(median(std::move(elevation_sines)));
+}
+
+// A fan's plane holds the turntable axis, so the axis is the direction least spread across the
+// fans' normals. Vertical fans (a RoSi turning about the vertical) are told apart by the direction
+// of their points about z; fans about an axis more than this far from the vertical (a nodding
+// scanner's fans, tilted about a horizontal axis, all point forward) are not, and their angle is
+// taken about the axis itself.
+constexpr double kLeastTiltedAxisDeg = 45.0;
+
+// Per shape, the angle that orders the fans side by side: the direction of their points about z,
+// or about the turntable axis the fans' planes hold when it lies far from the vertical (then
+// `tilted_axis` is set to it).
+std::vector<double> fanAngles(const std::vector<LineShape>& shapes,
+                              std::optional<Eigen::Vector3d>& tilted_axis) {
+  std::vector<double> angles;
+  for (const LineShape& shape : shapes)
+    angles.push_back(shape.azimuth);
+  Eigen::Matrix3d normals = Eigen::Matrix3d::Zero();
+  std::size_t fitted = 0;
+  for (const LineShape& shape : shapes)
+    if (shape.has_plane) {
+      normals.noalias() += shape.normal * shape.normal.transpose();
+      ++fitted;
+    }
+  if (fitted < 2) return angles;
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> spread;
+  spread.computeDirect(normals);
+  const Eigen::Vector3d axis = spread.eigenvectors().col(0);
+  if (std::abs(axis.z()) >= std::cos(kLeastTiltedAxisDeg * kPi / 180.0)) return angles;
+  tilted_axis = axis;
+  // Across the axis: the horizontal direction across it, and the one across both.
+  const Eigen::Vector3d first = axis.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d second = axis.cross(first);
+  // Each fan's direction in its plane across the axis, the way its points lie (a line with too
+  // few samples for a plane: the direction of its points, across the axis).
+  for (std::size_t k = 0; k < shapes.size(); ++k) {
+    Eigen::Vector3d forward = shapes[k].direction_sum;
+    if (shapes[k].has_plane) {
+      forward = axis.cross(shapes[k].normal);
+      if (forward.dot(shapes[k].direction_sum) < 0.0) forward = -forward;
+    }
+    angles[k] = std::atan2(forward.dot(second), forward.dot(first));
+  }
+  return angles;
 }
 
 }  // namespace
@@ -244,12 +331,13 @@ SensorGeometry describeSensor(const Scan& scan, int threads) {
   }
 
   // Lines fanning about a turntable axis: their angles are beta when the file gives it, else
-  // the direction of their points about z (vertical fans; files with another axis carry beta).
+  // the direction of their points about z (vertical fans) or about the axis their planes hold
+  // (fans about an axis far from the vertical: a nodding scanner's).
   sensor.kind = SensorKind::kRotating2D;
-  std::vector<double> angles;
+  std::vector<double> angles = fanAngles(shapes, sensor.tilted_axis);
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const double beta = scan.lines[used[k]].beta;
-    angles.push_back(std::isfinite(beta) ? beta : shapes[k].azimuth);
+    if (std::isfinite(beta)) angles[k] = beta;
   }
   for (std::size_t k = 0; k < shapes.size(); ++k)
     sensor.line_angle[used[k]] = angles[k];

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <optional>
 #include <string_view>
 #include <vector>
 
@@ -35,6 +36,10 @@ struct SensorGeometry {
   // half a turn writes a fan's two halves one after the other, 180 deg apart: the neighbour of a
   // line is the next one in this angle, not in the file.
   std::vector<double> line_angle;
+  // The axis a rotating 2D scanner's fans turn about, when it lies far from z (a nodding scanner:
+  // fans tilted about a horizontal axis, each sweeping from one side to the other): estimated
+  // from the fans' planes, and line_angle is taken about it. Unset: z (vertical fans), or rings.
+  std::optional<Eigen::Vector3d> tilted_axis;
 };
 
 // Reads the geometry from the valid points (sensor at the origin) and the lines' beta angles; the

@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <numbers>
+#include <optional>
 
 #include "clearway/segmentation/scan_analysis.h"
 #include "parallel.h"
@@ -50,10 +51,13 @@ void alignRingStarts(std::vector<double>& along, const std::vector<ScanLine>& ri
 }
 
 // The angle that runs along each line, per point: elevation along a rotating scanner's fans, seen
-// from `lift` up the turntable axis, azimuth (unwrapped) along a multi-beam ring; ordered along
-// the line. Points without a direction take their predecessor's. An arc tangent per point, so
-// the lines are dealt out to the threads (a tenth of the map inputs' time on one thread).
-std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double lift, int threads) {
+// from `lift` up the turntable axis (or, for fans about a `tilted_axis`, a nodding scanner's, the
+// angle from the plane across that axis), azimuth (unwrapped) along a multi-beam ring; ordered
+// along the line. Points without a direction take their predecessor's. An arc tangent per point,
+// so the lines are dealt out to the threads (a tenth of the map inputs' time on one thread).
+std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double lift,
+                                    const std::optional<Eigen::Vector3d>& tilted_axis,
+                                    int threads) {
   std::vector<double> along(scan.size(), 0.0);
   auto alongLine = [&](const ScanLine& line) {
     double previous = 0.0, raw_previous = 0.0;
@@ -69,7 +73,11 @@ std::vector<double> angleAlongLines(const Scan& scan, bool multi_beam, double li
         along[i] = previous;
         continue;
       }
-      if (!multi_beam) {
+      if (tilted_axis) {
+        const Eigen::Vector3d v(p.x, p.y, p.z);
+        const double along_axis = v.dot(*tilted_axis);
+        previous = std::atan2(along_axis, (v - along_axis * *tilted_axis).norm());
+      } else if (!multi_beam) {
         previous = std::atan2(double(p.z) - lift, std::hypot(double(p.x), double(p.y)));
       } else {
         const double raw = std::atan2(double(p.y), double(p.x));
@@ -386,10 +394,62 @@ double EdgeLimit::joinedStep(const std::vector<std::int32_t>& ground_of, std::si
   return std::max(step, highest - lowest) + kJoinedStepUncertainty;
 }
 
+LinePairing::LinePairing(const Scan& scan, const std::vector<std::int32_t>& ground_of,
+                         const SensorGeometry& sensor, double scanner_height, int threads)
+    : multi_beam_(sensor.kind == SensorKind::kMultiBeam) {
+  // Ragged lines (sky and no-returns dropped, rings of different lengths) are paired by the angle
+  // along the line, not by index (a line with a few more returns up a tree would shift the pairing
+  // of all its ground): the azimuth along a ring; the elevation along a fan, seen from at least
+  // kElevationHeight above the ground (from the file's origin, every ground point of a file whose
+  // origin lies on the ground has an elevation near zero).
+  // Lines that sweep in azimuth instead (a nodding scanner's tilted fans) keep what served them:
+  // the elevation from the file's origin when it lies high enough, else the relative index.
+  // A nodding scanner's fans sweep from one side of their axis to the other: along them, the
+  // angle from the plane across the axis, so that a fan that lost returns (octomap's, to the sky
+  // and to glass) is not paired by relative index with returns some degrees away.
+  const bool by_angle = !scan.isOrganised();
+  const bool nodding = by_angle && !multi_beam_ && sensor.tilted_axis.has_value();
+  const double lift = nodding ? 0.0 : std::max(0.0, kElevationHeight - scanner_height);
+  along_ = by_angle ? angleAlongLines(scan, multi_beam_, lift,
+                                      nodding ? sensor.tilted_axis : std::nullopt, threads)
+                    : std::vector<double>{};
+  const bool elevation_fans =
+      !along_.empty() && !multi_beam_ && !nodding && sweepInElevation(scan, along_, sensor);
+  // The elevation from the file's origin is what was computed above when the origin is high
+  // enough (no lift); lower, these lines pair by index.
+  if (!along_.empty() && !multi_beam_ && !nodding && !elevation_fans &&
+      scanner_height < kElevationHeight)
+    along_.clear();
+  Fans fans = elevation_fans ? fansOf(scan, sensor, along_) : fansOf(scan, sensor, {});
+  // Along a ring too: a return a little out of azimuth order (a frame corrected for the
+  // vehicle's motion steps back up to a degree) would hold the walk on it for the rest of the ring.
+  if (elevation_fans || nodding || (multi_beam_ && !along_.empty()))
+    for (const ScanLine& fan : fans.lines)
+      holdDips(along_, fan);
+  // Lines side by side: in the order of their angle (file order when the sensor's geometry is
+  // unknown); a full turn closes on itself, its last line next to its first.
+  LineOrder side_by_side = linesSideBySide(fans, oneFanPerAngle(fans, ground_of, sensor), sensor);
+  order_ = std::move(side_by_side.lines);
+  lines_ = std::move(fans.lines);
+  const std::size_t count = order_.size();
+  const bool revolution = count > 2 && side_by_side.closes;
+  pairs_ = count == 0 ? 0 : count - 1 + (revolution ? 1 : 0);
+}
+
+void LinePairing::partners(const ScanLine& from, const ScanLine& to,
+                           std::vector<std::size_t>& out) const {
+  if (!along_.empty()) {
+    partnersByAngle(along_, from, to, out);
+    return;
+  }
+  out.resize(from.count);
+  for (std::size_t k = 0; k < from.count; ++k)
+    out[k] = partner(from, to, k);
+}
+
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
-    const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
-    const SensorGeometry& sensor, double scanner_height, int threads,
-    SweepPartners* sweep_partners) {
+    const Scan& scan, const LinePairing& pairing, const std::vector<std::int32_t>& ground_of,
+    const EdgeLimit& limit, int threads, SweepPartners* sweep_partners) {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   auto squaredDistance = [&](std::size_t a, std::size_t b) {
     const Point3f& p = scan.points[a];
@@ -404,7 +464,7 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   // corner's, the ring whose spacing the edges between the two rings span: the same triangles
   // either way (KITTI 000002 with its rings bottom up showed 81,330 traversable cells against
   // 86,289 as stored).
-  const bool rings = sensor.kind == SensorKind::kMultiBeam;
+  const bool rings = pairing.multiBeam();
   auto edgeLimitSquared = [&](std::size_t a, std::size_t b, std::size_t c) {
     if (!rings) return limit.maxEdgeSquared(a);
     return std::max({limit.maxEdgeSquared(a), limit.maxEdgeSquared(b), limit.maxEdgeSquared(c)});
@@ -421,45 +481,14 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     if (longest > fixed_edge_squared && longest > edgeLimitSquared(a, b, c)) return;
     out.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
   };
-  // Ragged lines (sky and no-returns dropped, rings of different lengths) are paired by the angle
-  // along the line, not by index (a line with a few more returns up a tree would shift the pairing
-  // of all its ground): the azimuth along a ring; the elevation along a fan, seen from at least
-  // kElevationHeight above the ground (from the file's origin, every ground point of a file whose
-  // origin lies on the ground has an elevation near zero).
-  // Lines that sweep in azimuth instead (a nodding scanner's tilted fans) keep what served them:
-  // the elevation from the file's origin when it lies high enough, else the relative index.
-  const bool multi_beam = sensor.kind == SensorKind::kMultiBeam;
-  const bool by_angle = !scan.isOrganised();
-  const double lift = std::max(0.0, kElevationHeight - scanner_height);
-  std::vector<double> along =
-      by_angle ? angleAlongLines(scan, multi_beam, lift, threads) : std::vector<double>{};
-  const bool elevation_fans =
-      !along.empty() && !multi_beam && sweepInElevation(scan, along, sensor);
-  // The elevation from the file's origin is what was computed above when the origin is high
-  // enough (no lift); lower, these lines pair by index.
-  if (!along.empty() && !multi_beam && !elevation_fans && scanner_height < kElevationHeight)
-    along.clear();
-  const Fans fans = elevation_fans ? fansOf(scan, sensor, along) : fansOf(scan, sensor, {});
-  // Along a ring too: a return a little out of azimuth order (a frame corrected for the
-  // vehicle's motion steps back up to a degree) would hold the walk on it for the rest of the ring.
-  if (elevation_fans || (multi_beam && !along.empty()))
-    for (const ScanLine& fan : fans.lines)
-      holdDips(along, fan);
-  // Lines side by side: in the order of their angle (file order when the sensor's geometry is
-  // unknown); a full turn closes on itself, its last line next to its first.
-  const LineOrder side_by_side =
-      linesSideBySide(fans, oneFanPerAngle(fans, ground_of, sensor), sensor);
-  const std::vector<std::size_t>& order = side_by_side.lines;
-  const std::size_t lines = order.size();
-  const bool revolution = lines > 2 && side_by_side.closes;
-  const std::size_t pairs = lines == 0 ? 0 : lines - 1 + (revolution ? 1 : 0);
+  const std::size_t pairs = pairing.pairs();
   // The ground is uneven along the turn (a wall close by on one side, open floor on the other):
   // several parts per thread keep both threads busy to the end.
   constexpr std::size_t kPartsPerThread = 4;
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(
       detail::chunkCount(pairs, threads, kPartsPerThread));
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
-  const bool across_lines = sweep_partners && !multi_beam;
+  const bool across_lines = sweep_partners && !rings;
   if (across_lines)
     sweep_partners->partners.assign(sweep_partners->points().size(), {kNoPartner, kNoPartner});
   // Each chosen point of a line with its entry, walking `points` beside the line.
@@ -474,16 +503,13 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
       [&](std::size_t begin, std::size_t end, std::size_t chunk) {
         std::vector<std::size_t> partners;
         for (std::size_t l = begin; l < end; ++l) {
-          const ScanLine& a = fans.lines[order[l]];
-          const ScanLine& b = fans.lines[order[(l + 1) % lines]];
+          const ScanLine& a = pairing.before(l);
+          const ScanLine& b = pairing.after(l);
           if (a.count == 0 || b.count == 0) continue;
-          if (!along.empty()) partnersByAngle(along, a, b, partners);
-          auto partnerOf = [&](std::size_t k) {
-            return along.empty() ? partner(a, b, k) : partners[k];
-          };
+          pairing.partners(a, b, partners);
           for (std::size_t k = 0; k + 1 < a.count; ++k) {
             const std::size_t a0 = a.first + k, a1 = a0 + 1;
-            const std::size_t b0 = partnerOf(k), b1 = partnerOf(k + 1);
+            const std::size_t b0 = partners[k], b1 = partners[k + 1];
             add(parts[chunk], a0, a1, b0);
             if (b1 != b0) add(parts[chunk], a1, b1, b0);
           }
@@ -491,12 +517,11 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
           // Each pair of lines writes the after-partners of a's points and the
           // before-partners of b's: no element is written twice.
           forChosen(a, [&](std::size_t k, std::size_t entry) {
-            sweep_partners->partners[entry][1] = std::uint32_t(partnerOf(k));
+            sweep_partners->partners[entry][1] = std::uint32_t(partners[k]);
           });
-          if (!along.empty()) partnersByAngle(along, b, a, partners);
+          pairing.partners(b, a, partners);
           forChosen(b, [&](std::size_t k, std::size_t entry) {
-            sweep_partners->partners[entry][0] =
-                std::uint32_t(along.empty() ? partner(b, a, k) : partners[k]);
+            sweep_partners->partners[entry][0] = std::uint32_t(partners[k]);
           });
         }
       },

@@ -104,12 +104,43 @@ class SweepPartners {
   std::vector<std::uint32_t> rank_;
 };
 
+// Which lines lie side by side and how their points pair up: the scan's lines, or the fans
+// within lines a file ran together, in the order of their angle (file order when the sensor's
+// geometry is unknown; a full turn closes on itself); points paired by the angle along the line,
+// or by index in an organised scan. Made once per scan: the ground is followed across the lines
+// (continueGround) and triangulated (groundTriangles) over the same pairs.
+class LinePairing {
+ public:
+  // `ground_of`: per point, its ground plane or -1 (where a turntable's two passes cover the same
+  // angles, the one with more ground there is paired); the scanner `scanner_height` above the
+  // map's ground.
+  LinePairing(const Scan& scan, const std::vector<std::int32_t>& ground_of,
+              const SensorGeometry& sensor, double scanner_height, int threads);
+
+  std::size_t pairs() const { return pairs_; }
+  // The two lines of pair `pair`, side by side.
+  const ScanLine& before(std::size_t pair) const { return lines_[order_[pair]]; }
+  const ScanLine& after(std::size_t pair) const {
+    return lines_[order_[(pair + 1) % order_.size()]];
+  }
+  // For each point of `from` (one line of a pair), its partner on `to` (the other), in `out`.
+  void partners(const ScanLine& from, const ScanLine& to, std::vector<std::size_t>& out) const;
+  // Rings, a fraction of a degree between returns along them and metres between them.
+  bool multiBeam() const { return multi_beam_; }
+
+ private:
+  bool multi_beam_ = false;
+  std::vector<double> along_;       // per point, the angle along its line; empty: by index
+  std::vector<ScanLine> lines_;     // what is paired: the lines, or the fans within them
+  std::vector<std::size_t> order_;  // lines_ side by side
+  std::size_t pairs_ = 0;
+};
+
 // The triangles (scan point indices) over the ground points (`ground_of`: plane per point, -1 not
-// ground), the scanner `scanner_height` above the map's ground. With `partners`, also the partners
-// across the sweep of its `points` (a rotating scanner's neighbouring lines).
+// ground) between the lines `pairing` pairs. With `partners`, also the partners across the sweep
+// of its `points` (a rotating scanner's neighbouring lines).
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
-    const Scan& scan, const std::vector<std::int32_t>& ground_of, const EdgeLimit& limit,
-    const SensorGeometry& sensor, double scanner_height, int threads,
-    SweepPartners* partners = nullptr);
+    const Scan& scan, const LinePairing& pairing, const std::vector<std::int32_t>& ground_of,
+    const EdgeLimit& limit, int threads, SweepPartners* partners = nullptr);
 
 }  // namespace clearway::detail

@@ -606,6 +606,8 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                           std::max(detail::kLowestScannerHeight, scanner_z),
                           params.robot.max_step,
                           groundPlaneHeights(analysis)};
+  // Which lines lie side by side, and how their points pair up.
+  const detail::LinePairing pairing(scan, ground_of, analysis.sensor, scanner_z, threads);
   // Ground no plane took in, continued from the planes' along the lines, as far apart as the
   // ground triangles may join returns.
   detail::ContinuedGround continued = detail::continueGround(
@@ -626,9 +628,9 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
     if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
       obstacle_points.push_back(std::uint32_t(i));
   detail::SweepPartners partners(std::move(obstacle_points), scan.size());
-  inputs.ground_mesh = meshOf(detail::groundTriangles(scan, ground_of, limit, analysis.sensor,
-                                                      scanner_z, threads, &partners),
-                              cell_of, inputs.grid, threads);
+  inputs.ground_mesh =
+      meshOf(detail::groundTriangles(scan, pairing, ground_of, limit, threads, &partners), cell_of,
+             inputs.grid, threads);
   markTriangleCells(inputs, ground_of, limit, cell_of, threads);
   markSingleHoles(inputs);
   markPlaneEdges(inputs, limit.plane_heights);

@@ -4,8 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "clearway/io/scan_io.h"
+#include "clearway/sensor_geometry.h"
 #include "test_support.h"
 
 namespace clearway {
@@ -55,6 +57,48 @@ TEST(RealScans, ThreeDtkScanIsOrganised226By360WithInvalidReturnsKept) {
   for (std::size_t i = 0; i < scan.size(); ++i)
     if (scan.isValid(i) && std::abs(scan.points[i].z + 0.39F) < 0.03F) ++floor_points;
   EXPECT_GT(floor_points, 5000);
+}
+
+// The nodding scanners' fans all point forward: their directions about z told them apart by
+// noise alone (3DTK's step between lines read 0.021 deg, octomap's 0.052), and the ground was
+// triangulated between fans far apart. They are ordered by their tilt about the axis they hold:
+// 3DTK's from -48.7 to +67.6 deg in 0.517 deg steps (SOURCE.txt); octomap's, each a plane to
+// within millimetres half a metre from the file's origin, from +30.0 to -54.8 deg, slowly at
+// first (our fit; its SOURCE.txt guessed +24 to -4 deg).
+TEST(RealScans, NoddingScannersFansLieSideBySideByTheirTilt) {
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  struct Case {
+    const char* name;
+    double sweep_deg;
+    double step_deg;  // 0: the tilt's steps vary
+  };
+  for (const Case& c :
+       {Case{"3dtk/scan000.3d", 116.3, 0.517}, Case{"octomap-stairs/scan.dat", 84.8, 0.0}}) {
+    CLEARWAY_REAL_SCAN_OR_SKIP(file, c.name);
+    SCOPED_TRACE(c.name);
+    const Scan scan = loadScan(file);
+    const SensorGeometry sensor = describeSensor(scan);
+    ASSERT_EQ(sensor.kind, SensorKind::kRotating2D);
+    EXPECT_FALSE(sensor.closed_turn);
+    // Neighbours in the file are neighbours by angle: the angle runs one way from the first fan
+    // to the last, over the whole tilt.
+    std::vector<double> steps;
+    for (std::size_t l = 1; l < sensor.line_angle.size(); ++l)
+      if (std::isfinite(sensor.line_angle[l - 1]) && std::isfinite(sensor.line_angle[l]))
+        steps.push_back(sensor.line_angle[l] - sensor.line_angle[l - 1]);
+    ASSERT_GT(steps.size(), 200u);
+    double sweep = 0.0;
+    std::size_t back = 0;
+    for (const double step : steps)
+      sweep += step;
+    for (const double step : steps)
+      back += step * sweep < 0.0 && std::abs(step) > 0.05 * kDeg;
+    EXPECT_NEAR(std::abs(sweep) / kDeg, c.sweep_deg, 1.0);
+    EXPECT_EQ(back, 0u);
+    if (c.step_deg > 0.0) {
+      EXPECT_NEAR(sensor.between_line_step / kDeg, c.step_deg, 0.005);
+    }
+  }
 }
 
 TEST(RealScans, HannoverScansHaveVerticalFansAndAPose) {

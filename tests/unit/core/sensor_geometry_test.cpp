@@ -1,0 +1,94 @@
+// The sensor's geometry read from the scan: which lines lie side by side when the file gives no
+// turntable angle.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Core>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "clearway/scan.h"
+#include "clearway/sensor_geometry.h"
+
+namespace clearway {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A nodding scanner's fans (3DTK's walkway scan): each a half plane holding the sideways axis,
+// swept from one side through forward to the other, tilted `step_deg` more than the one before
+// from -40 deg on. Every fan points forward on the whole: their directions about z tell them
+// nothing.
+Scan noddingFans(int fans, double step_deg) {
+  Scan scan;
+  for (int f = 0; f < fans; ++f) {
+    const double tilt = (-40.0 + f * step_deg) * kDeg;
+    ScanLine line{scan.points.size(), 0, std::numeric_limits<double>::quiet_NaN()};
+    for (int k = 0; k <= 180; ++k) {
+      const double across = (-90.0 + k) * kDeg;
+      const double range = 4.0 + 0.5 * std::sin(0.1 * k + f);
+      // In the fan's plane: forward tilted about y, and sideways along y.
+      const Eigen::Vector3d direction(std::cos(across) * std::cos(tilt), std::sin(across),
+                                      std::cos(across) * std::sin(tilt));
+      const Eigen::Vector3d p = range * direction;
+      scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
+      scan.status.push_back(PointStatus::kValid);
+      ++line.count;
+    }
+    scan.lines.push_back(line);
+  }
+  return scan;
+}
+
+TEST(SensorGeometry, ANoddingScannersFansAreOrderedByTheirTilt) {
+  constexpr int kFans = 200;
+  const Scan scan = noddingFans(kFans, 0.5);
+  const SensorGeometry sensor = describeSensor(scan);
+  EXPECT_EQ(sensor.kind, SensorKind::kRotating2D);
+  EXPECT_NEAR(sensor.between_line_step, 0.5 * kDeg, 0.02 * kDeg);
+  EXPECT_NEAR(sensor.along_line_step, 1.0 * kDeg, 0.02 * kDeg);
+  EXPECT_FALSE(sensor.closed_turn);
+  // Side by side in the file's order: the angles step the same way, by the tilt's step.
+  ASSERT_EQ(sensor.line_angle.size(), std::size_t(kFans));
+  const double way = sensor.line_angle[1] > sensor.line_angle[0] ? 1.0 : -1.0;
+  for (int f = 1; f < kFans; ++f)
+    EXPECT_NEAR(way * std::remainder(
+                          sensor.line_angle[std::size_t(f)] - sensor.line_angle[std::size_t(f - 1)],
+                          2.0 * std::numbers::pi),
+                0.5 * kDeg, 0.02 * kDeg)
+        << f;
+}
+
+// A turntable turning about the vertical (a RoSi's vertical fans): the direction of each fan's
+// points about z, as before.
+TEST(SensorGeometry, VerticalFansKeepTheirDirectionAboutTheVertical) {
+  Scan scan;
+  constexpr int kFans = 180;
+  for (int f = 0; f < kFans; ++f) {
+    const double azimuth = f * 2.0 * kDeg;
+    ScanLine line{scan.points.size(), 0, std::numeric_limits<double>::quiet_NaN()};
+    for (int k = 0; k < 150; ++k) {
+      const double elevation = (80.0 - 160.0 * k / 149.0) * kDeg;
+      const double range = 3.0 + 0.5 * std::sin(k * 0.1);
+      scan.points.push_back({float(range * std::cos(elevation) * std::cos(azimuth)),
+                             float(range * std::cos(elevation) * std::sin(azimuth)),
+                             float(range * std::sin(elevation))});
+      scan.status.push_back(PointStatus::kValid);
+      ++line.count;
+    }
+    scan.lines.push_back(line);
+  }
+  const SensorGeometry sensor = describeSensor(scan);
+  EXPECT_EQ(sensor.kind, SensorKind::kRotating2D);
+  EXPECT_NEAR(sensor.between_line_step, 2.0 * kDeg, 0.01 * kDeg);
+  EXPECT_TRUE(sensor.closed_turn);
+  for (int f = 0; f < kFans; ++f)
+    EXPECT_NEAR(
+        std::remainder(sensor.line_angle[std::size_t(f)] - f * 2.0 * kDeg, 2.0 * std::numbers::pi),
+        0.0, 1e-3)
+        << f;
+}
+
+}  // namespace
+}  // namespace clearway
