@@ -40,6 +40,7 @@ class FlatCells {
         lowest_(grid.cells(), kNone),
         lowest_free_(grid.cells(), kNone),
         highest_(grid.cells(), -kNone),
+        lowest_near_(grid.cells(), std::numeric_limits<float>::quiet_NaN()),
         state_(grid.cells(), kUnknown),
         // The cells within clear_reach of anywhere in a cell: one more than the reach in cells,
         // as the returns lie anywhere in theirs.
@@ -66,6 +67,17 @@ class FlatCells {
     }
   }
 
+  // Whether nothing within `clear_reach` of `cell` lies lower than `z` by more than ground
+  // noise: a return at `z` there is on the lowest surface around, not up an obstacle's face.
+  bool lowestAround(std::uint32_t cell, float z) {
+    if (std::isnan(lowest_near_[cell])) {
+      float lowest = kNone;
+      forCellsNear(cell, [&](std::size_t near) { lowest = std::min(lowest, lowest_[near]); });
+      lowest_near_[cell] = lowest;
+    }
+    return lowest_near_[cell] >= z - limits_.flatness;
+  }
+
   // Asked only of the cells the walk reaches (most returns are in planes and never are).
   bool flat(std::uint32_t cell) {
     if (state_[cell] == kUnknown) state_[cell] = level(cell) ? kFlat : kNotFlat;
@@ -75,26 +87,34 @@ class FlatCells {
  private:
   static constexpr std::uint8_t kUnknown = 0, kFlat = 1, kNotFlat = 2;
 
-  bool level(std::uint32_t cell) const {
-    const float floor = lowest_free_[cell];
-    if (floor == kNone) return false;
+  // Each cell within clear_reach of `cell`, to `visit`.
+  template <typename Visit>
+  void forCellsNear(std::uint32_t cell, Visit&& visit) const {
     const int row = int(cell / std::uint32_t(grid_.width)),
               column = int(cell % std::uint32_t(grid_.width));
     for (int r = std::max(0, row - reach_); r <= std::min(grid_.height - 1, row + reach_); ++r)
       for (int c = std::max(0, column - reach_); c <= std::min(grid_.width - 1, column + reach_);
-           ++c) {
-        const std::size_t near = grid_.index(c, r);
-        if ((highest_[near] > floor + limits_.flatness &&
-             highest_[near] < floor + limits_.clear_height) ||
-            lowest_[near] < floor - limits_.flatness)
-          return false;
-      }
-    return true;
+           ++c)
+        visit(grid_.index(c, r));
+  }
+
+  bool level(std::uint32_t cell) const {
+    const float floor = lowest_free_[cell];
+    if (floor == kNone) return false;
+    bool level = true;
+    forCellsNear(cell, [&](std::size_t near) {
+      level = level &&
+              !(highest_[near] > floor + limits_.flatness &&
+                highest_[near] < floor + limits_.clear_height) &&
+              lowest_[near] >= floor - limits_.flatness;
+    });
+    return level;
   }
 
   const MapGrid& grid_;
   const GroundContinuationLimits& limits_;
   std::vector<float> lowest_, lowest_free_, highest_;
+  std::vector<float> lowest_near_;  // the lowest return within clear_reach; NaN: not asked yet
   std::vector<std::uint8_t> state_;
   int reach_;
 };
@@ -102,6 +122,7 @@ class FlatCells {
 }  // namespace
 
 ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& scan,
+                               const LinePairing& pairing,
                                const std::vector<std::int32_t>& point_plane,
                                const std::vector<Eigen::Vector3f>& mapped,
                                const std::vector<Eigen::Vector2i>& cell_of, const MapGrid& grid,
@@ -120,6 +141,11 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
     if (point_plane[i] >= 0 || !cells.flat(cell_index[i])) return false;
     const Eigen::Vector3f& p = mapped[i];
     const Eigen::Vector3f& q = mapped[from];
+    // Only from ground on the lowest surface around it: a return of the floor's plane up an
+    // obstacle's face (the plane's band holds a kerb's face where the plane, fitted over tilted
+    // slabs, passes a few centimetres above the slab at its foot) does not carry the floor onto
+    // what the obstacle stands beside (the outdoor kerb: 7 false cells when walked across lines).
+    if (!cells.lowestAround(cell_index[from], q.z())) return false;
     const double rise = std::abs(double(p.z() - q.z()));
     if (rise > limits.flatness) return false;
     const double gap_squared = double((p.head<2>() - q.head<2>()).squaredNorm());
@@ -130,6 +156,17 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
   };
   std::vector<bool> continued(ground_of.size(), false);
   std::size_t taken = 0;
+  auto take = [&](std::size_t i, std::size_t from) {
+    ground_of[i] = ground_of[from];
+    continued[i] = true;
+    ++taken;
+  };
+  // None taken in (an indoor scan's ground is all planar): an empty mark, which every ground
+  // triangle's join test reads as "none" without looking up its corners.
+  auto finish = [&] {
+    if (taken == 0) continued.clear();
+    return ContinuedGround{std::move(ground_of), std::move(continued)};
+  };
   // Both ways along each line: a stretch between two planes is reached from either end.
   auto walk = [&](std::size_t first, std::size_t end, std::ptrdiff_t direction) {
     std::size_t last = std::numeric_limits<std::size_t>::max();
@@ -139,21 +176,51 @@ ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& 
       if (ground_of[i] >= 0) {
         last = i;
       } else if (last != std::numeric_limits<std::size_t>::max() && continues(i, last)) {
-        ground_of[i] = ground_of[last];
-        continued[i] = true;
-        ++taken;
+        take(i, last);
         last = i;
       }
     }
   };
-  for (const ScanLine& line : scan.lines) {
+  auto walkBothWays = [&](const ScanLine& line) {
     walk(line.first, line.first + line.count, +1);
     walk(line.first, line.first + line.count, -1);
-  }
-  // None taken in (an indoor scan's ground is all planar): an empty mark, which every ground
-  // triangle's join test reads as "none" without looking up its corners.
-  if (taken == 0) continued.clear();
-  return {std::move(ground_of), std::move(continued)};
+  };
+  for (const ScanLine& line : scan.lines)
+    walkBothWays(line);
+  // Across the lines, as the ground triangles pair them: a nodding scanner's tilted fans cross
+  // the floor at one range each, and a fan wholly off the plane (3DTK's walkway levelling out
+  // beyond a 4.7 deg ramp, 0.05-0.15 m above the ramp's plane) has no ground return of its own
+  // to walk from. A multi-beam frame's rings, metres apart on the road, are followed outward
+  // before the planes are made (ring_ground.h).
+  if (pairing.multiBeam()) return finish();
+  std::vector<std::size_t> partners;
+  // A return that may still be taken in: in no plane, not ground yet, on the map.
+  auto open = [&](std::size_t i) {
+    return point_plane[i] < 0 && ground_of[i] < 0 && cell_index[i] != kOutside;
+  };
+  auto across = [&](const ScanLine& from, const ScanLine& to) {
+    if (from.count == 0 || to.count == 0) return;
+    // Most lines' returns are all in planes or ground already: their partners are not wanted.
+    bool any_open = false;
+    for (std::size_t i = to.first; i < to.first + to.count && !any_open; ++i)
+      any_open = open(i);
+    if (!any_open) return;
+    pairing.partners(to, from, partners);
+    bool took = false;
+    for (std::size_t k = 0; k < to.count; ++k) {
+      const std::size_t i = to.first + k, last = partners[k];
+      if (!open(i) || ground_of[last] < 0 || cell_index[last] == kOutside || !continues(i, last))
+        continue;
+      take(i, last);
+      took = true;
+    }
+    if (took) walkBothWays(to);
+  };
+  for (std::size_t pair = 0; pair < pairing.pairs(); ++pair)
+    across(pairing.before(pair), pairing.after(pair));
+  for (std::size_t pair = pairing.pairs(); pair-- > 0;)
+    across(pairing.after(pair), pairing.before(pair));
+  return finish();
 }
 
 }  // namespace clearway::detail

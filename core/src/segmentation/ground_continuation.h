@@ -11,6 +11,7 @@
 
 #include "clearway/scan.h"
 #include "clearway/segmentation/scan_analysis.h"
+#include "ground_triangles.h"
 
 namespace clearway::detail {
 
@@ -39,9 +40,13 @@ struct ContinuedGround {
 // `ground_of` (per point, its ground plane or -1) with the returns that continue the ground added
 // to the plane they continue: walking each scan line both ways from a ground return, the next
 // returns that are in no plane, lie in a flat cell with no ground return of its own, rise gently
-// from the last ground return and are no farther from it than `max_gap_squared(point)` allows.
+// from the last ground return and are no farther from it than `max_gap_squared(point)` allows;
+// then, unless the lines are a multi-beam frame's rings, across the lines `pairing` pairs, from
+// each ground return to its partner on the next line (forward over the pairs, then back), each
+// line walked along again from what it took in.
 // `plane_heights`: per plane its map height (h0, hx, hy), NaN for planes that are not ground.
 ContinuedGround continueGround(std::vector<std::int32_t> ground_of, const Scan& scan,
+                               const LinePairing& pairing,
                                const std::vector<std::int32_t>& point_plane,
                                const std::vector<Eigen::Vector3f>& mapped,
                                const std::vector<Eigen::Vector2i>& cell_of, const MapGrid& grid,

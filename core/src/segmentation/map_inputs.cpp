@@ -608,10 +608,10 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
                           groundPlaneHeights(analysis)};
   // Which lines lie side by side, and how their points pair up.
   const detail::LinePairing pairing(scan, ground_of, analysis.sensor, scanner_z, threads);
-  // Ground no plane took in, continued from the planes' along the lines, as far apart as the
-  // ground triangles may join returns.
+  // Ground no plane took in, continued from the planes' along and across the lines, as far apart
+  // as the ground triangles may join returns.
   detail::ContinuedGround continued = detail::continueGround(
-      std::move(ground_of), scan, analysis.planes.point_plane, mapped.positions, cell_of,
+      std::move(ground_of), scan, pairing, analysis.planes.point_plane, mapped.positions, cell_of,
       inputs.grid, limit.plane_heights, continuationLimits(params),
       [&limit](std::size_t point) { return limit.maxEdgeSquared(point); });
   ground_of = std::move(continued.ground_of);

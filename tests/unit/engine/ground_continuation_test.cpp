@@ -1,11 +1,12 @@
 // Ground that no plane took in: a floor that rises gently in a small dome leaves its upper returns
 // more than the planes' support band off the floor plane and in no plane of their own. They
-// continue the floor's ground along the scan lines (docs/ALGORITHM.md, "Ground no plane took in"),
-// while a low box's top, reached over its face, stays what it is.
+// continue the floor's ground along and across the scan lines (docs/ALGORITHM.md, "Ground no plane
+// took in"), while a low box's top, reached over its face, stays what it is.
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -155,6 +156,61 @@ TEST(GroundContinuation, AKerbTopDoesNotBringTheLevelAboveWithinAStep) {
   const eval::Evaluation e = test::evaluateRun(run, params);
   EXPECT_GT(e.map.traversable_cells, 10000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
+}
+
+// A nodding scanner (a 2D scanner tilted about a horizontal axis, as 3DTK's walkway scan was
+// taken): its fans cross the floor sideways, each at one distance, and the file gives no turntable
+// angle. From `kBendStart` on, the floor bends up across its whole width to `kBendRise` above its
+// plane at its far edge (more than the plane's support band): a fan that meets only the bend has
+// no ground return of its own to be walked from along it. The ground is followed across the fans,
+// as the ground triangles pair them (3DTK's walkway: the floor levelling out beyond a 4.7 deg ramp
+// lay 0.05-0.15 m above the ramp's plane, and was red).
+constexpr double kBendStart = 3.0, kBendLength = 1.6, kBendRise = 0.09;  // [m]
+constexpr double kBendFrom = 0.5;                                        // the bend's side [m]
+
+double bendHeight(double x) {
+  if (x <= kBendStart) return 0.0;
+  return kBendRise * std::pow(std::sin(std::numbers::pi / 2 * (x - kBendStart) / kBendLength), 2);
+}
+
+test::SimulatedRun noddingOverABend() {
+  sim::Scene scene;
+  scene.name = "bend";
+  constexpr double kFarEdge = kBendStart + kBendLength;
+  scene.primitives.push_back(
+      box("floor", PointClass::kGround, {-3.0, -3.0, -1.0}, {kBendStart, 9.0, 0.0}));
+  // Along the scanner's side the floor goes on level, so the floor's plane reaches past the bend.
+  scene.primitives.push_back(
+      box("side", PointClass::kGround, {kBendStart, -3.0, -1.0}, {6.0, kBendFrom, 0.0}));
+  int strip = 0;
+  for (double x = kBendStart; x < kFarEdge - 1e-9; x += kColumn)
+    scene.primitives.push_back(box("bend_" + std::to_string(strip++), PointClass::kGround,
+                                   {x, kBendFrom, -1.0},
+                                   {x + kColumn, 9.0, bendHeight(x + kColumn / 2)}));
+  sim::SensorModel sensor;
+  sensor.lines = 400;
+  sensor.max_range = 9.0;
+  sim::ScannerPlacement placement;
+  placement.position = {0.0, 0.0, 1.0};
+  placement.axis = {0.0, 1.0, 0.0};  // the fans hold the sideways axis
+  test::SimulatedRun run;
+  run.simulated = sim::simulateRosi(scene, sensor, placement);
+  // As a 3DTK file has it: no turntable angle per line.
+  for (ScanLine& line : run.simulated.scan.lines)
+    line.beta = std::numeric_limits<double>::quiet_NaN();
+  run.result = runPipeline(run.simulated.scan, SegmentationParams{});
+  return run;
+}
+
+TEST(GroundContinuation, AFloorBendingUpAcrossANoddingScannersFansIsGround) {
+  const test::SimulatedRun run = noddingOverABend();
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  for (const Eigen::Vector2d& p :
+       {Eigen::Vector2d(4.0, 2.5), Eigen::Vector2d(3.9, 3.5), Eigen::Vector2d(4.0, 4.0)}) {
+    SCOPED_TRACE(p.transpose());
+    EXPECT_TRUE(shownTraversable(test::labelAtWorld(run, {p.x(), p.y(), bendHeight(p.x())})));
+  }
+  EXPECT_EQ(test::evaluateRun(run, SegmentationParams{}).map.false_traversable_cells, 0U);
 }
 
 }  // namespace
