@@ -376,13 +376,54 @@ double expectedGroundSpacing(const SensorGeometry& sensor, double range, double 
   if (height <= 0.0) return std::numeric_limits<double>::infinity();
   const double slant_squared = range * range + height * height;
   // The step that runs towards the sensor is stretched on the ground by slant^2 / height; the one
-  // that runs across is not.
-  const double radial_step =
-      sensor.kind == SensorKind::kMultiBeam ? sensor.between_line_step : sensor.along_line_step;
-  const double tangential_step =
-      sensor.kind == SensorKind::kMultiBeam ? sensor.along_line_step : sensor.between_line_step;
+  // that runs across is not. A RoSi's fans run towards it, a nodding scanner's fans (about a
+  // tilted axis) and a multi-beam head's rings across.
+  const bool lines_across = sensor.kind == SensorKind::kMultiBeam || sensor.tilted_axis;
+  const double radial_step = lines_across ? sensor.between_line_step : sensor.along_line_step;
+  const double tangential_step = lines_across ? sensor.along_line_step : sensor.between_line_step;
   return std::max(slant_squared / height * radial_step, range * tangential_step);
 }
+
+namespace {
+
+// How far a beam's move by `step` about direction `du` (a unit tangent at `u`, or one scaled by
+// the distance factor of a turn about an axis) carries its sample on the ground `drop` below,
+// where nothing could stand between the two samples unseen: the move's part sideways of the
+// beam, and its part along the beam up to what the farther beam protects (2 x range x step).
+// Infinity for a beam that grazes the ground or points up.
+double unprotectedMove(const Eigen::Vector3d& u, const Eigen::Vector3d& du, double step,
+                       const Eigen::Vector3d& up, double drop, double range) {
+  const double facing = up.dot(u);  // negative: the beam goes down to the ground
+  if (facing > -1e-3) return std::numeric_limits<double>::infinity();
+  const double t = -drop / facing;
+  const double dt = drop * up.dot(du) / (facing * facing);
+  Eigen::Vector3d move = (t * du + dt * u) * step;
+  move -= move.dot(up) * up;
+  Eigen::Vector3d beam = u - facing * up;
+  if (beam.norm() < 1e-6) return move.norm();
+  beam.normalize();
+  const double radial = std::abs(move.dot(beam));
+  const double sideways = (move - move.dot(beam) * beam).norm();
+  return std::max(sideways, std::min(radial, 2.0 * range * step));
+}
+
+// hiddenObstacleSize() for fans about a tilted axis `axis` (a nodding scanner): within a fan the
+// beam turns towards the axis in the fan's plane; from fan to fan it turns about the axis, which
+// carries its sample towards or away from the sensor on the ground, no longer sideways only.
+double hiddenAboutTiltedAxis(const SensorGeometry& sensor, const Eigen::Vector3d& axis,
+                             const Eigen::Vector3d& u, const Eigen::Vector3d& up, double drop,
+                             double range) {
+  const Eigen::Vector3d towards_axis = axis - u.dot(axis) * u;
+  const double within =
+      towards_axis.norm() < 1e-9
+          ? 0.0
+          : unprotectedMove(u, towards_axis.normalized(), sensor.along_line_step, up, drop, range);
+  const double across =
+      unprotectedMove(u, axis.cross(u), sensor.between_line_step, up, drop, range);
+  return std::max(within, across);
+}
+
+}  // namespace
 
 double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point,
                           const Eigen::Vector3d& up, double height) {
@@ -391,6 +432,9 @@ double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& p
     return std::numeric_limits<double>::infinity();
   const double range = point.norm();
   if (range <= 0.0) return 0.0;
+  if (sensor.kind == SensorKind::kRotating2D && sensor.tilted_axis)
+    return hiddenAboutTiltedAxis(sensor, *sensor.tilted_axis, point / range, up,
+                                 std::max(height, kLowestBeamHeight), range);
   // The sweep's axis is the frame's z: the turntable axis of a RoSi file, the spin axis of a
   // multi-beam head. Across the sweep, neighbouring beams are this far apart, unprotected.
   const double from_axis = point.head<2>().norm();

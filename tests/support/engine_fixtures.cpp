@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <queue>
 
@@ -65,6 +66,29 @@ SimulatedRun simulateSavedAndSegment(const sim::Scene& scene, const sim::SensorM
   run.simulated.scan = loadScan(file);
   std::filesystem::remove(file);
   run.result = runPipeline(run.simulated.scan, params);
+  return run;
+}
+
+SimulatedRun simulateNodding(const sim::Scene& scene, const sim::SensorModel& sensor,
+                             const sim::ScannerPlacement& placement,
+                             const SegmentationParams& params) {
+  SimulatedRun run;
+  run.simulated = sim::simulateRosi(scene, sensor, placement);
+  Scan& scan = run.simulated.scan;
+  const Eigen::Matrix3d level = placement.worldFromScanner().linear();
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    const Point3f& p = scan.points[i];
+    const Eigen::Vector3d q = level * Eigen::Vector3d(p.x, p.y, p.z);
+    scan.points[i] = {float(q.x()), float(q.y()), float(q.z())};
+  }
+  for (ScanLine& line : scan.lines)
+    line.beta = std::numeric_limits<double>::quiet_NaN();
+  scan.sensor_pose = SensorPose{};
+  // A placement whose axis is z and roll 0 is the identity turn: the level frame at the scanner.
+  run.simulated.truth.placement.axis = Eigen::Vector3d::UnitZ();
+  run.simulated.truth.placement.axis_roll_deg = 0.0;
+  run.result = runPipeline(scan, params);
   return run;
 }
 

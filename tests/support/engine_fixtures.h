@@ -35,6 +35,14 @@ SimulatedRun simulateSavedAndSegment(const sim::Scene& scene, const sim::SensorM
                                      const sim::ScannerPlacement& placement,
                                      const SegmentationParams& params = {});
 
+// Simulates `scene` as a nodding scanner's file holds it (3DTK's walkway, octomap's stairs): the
+// points turned into a level frame at the scanner (z up), no turntable angle per line, the pose
+// the identity; the fans turn about `placement.axis`. The truth's placement is levelled the same
+// way, so that evaluateRun() and labelAtWorld() read the map in the world. Runs the pipeline.
+SimulatedRun simulateNodding(const sim::Scene& scene, const sim::SensorModel& sensor,
+                             const sim::ScannerPlacement& placement,
+                             const SegmentationParams& params = {});
+
 // The run's map scored against the simulator's truth (`clearway-cli eval`'s measures) for the
 // robot of `params`.
 eval::Evaluation evaluateRun(const SimulatedRun& run, const SegmentationParams& params = {});

@@ -47,12 +47,13 @@ struct SensorGeometry {
 SensorGeometry describeSensor(const Scan& scan, int threads = 1);
 
 // The largest gap expected between neighbouring ground samples at horizontal distance `range` from
-// a sensor `height` above flat ground: along a line the beam step makes arcs of range x step;
-// across lines, a turntable step moves a fan's foot by range x step, and a multi-beam ring's
-// elevation step moves its foot on the ground by range^2 / height x step (a grazing beam stretches
-// its footprint). An obstacle narrower and shorter than this spacing can stand between samples
-// unseen (see docs/ALGORITHM.md, "Sparse scans never lie"). Returns metres; infinity for a sensor
-// at or below the ground.
+// a sensor `height` above flat ground. A step that moves the beam towards or away from the sensor
+// is stretched on the ground to (range^2 + height^2) / height x step (a grazing beam): a RoSi's
+// step along its fans, a multi-beam ring's elevation step, a nodding scanner's step from fan to
+// fan. A step that moves it sideways makes an arc of range x step: a RoSi's turntable step, the
+// azimuth step along a ring, the step along a nodding scanner's fan. An obstacle narrower and
+// shorter than this spacing can stand between samples unseen (see docs/ALGORITHM.md, "Sparse
+// scans never lie"). Returns metres; infinity for a sensor at or below the ground.
 double expectedGroundSpacing(const SensorGeometry& sensor, double range, double height);
 
 // How wide an obstacle could stand on the ground at `point` (scanner frame; `up` is gravity's up
@@ -62,8 +63,11 @@ double expectedGroundSpacing(const SensorGeometry& sensor, double range, double 
 // nothing between them is seen, however tall. Within a fan (a RoSi line) or from ring to ring,
 // the step moves the ground sample; the part of that move along the beam is protected, since the
 // farther beam passes over the gap at most `gap x height / range` high and so hits an obstacle
-// half the gap's width high (it counts as `2 x range x step`); the part sideways is not. A cell is
-// vouched for where this is at most twice the robot's step. Infinity when unknown.
+// half the gap's width high (it counts as `2 x range x step`); the part sideways is not. A
+// nodding scanner's fans (`tilted_axis`) are the other way round: a fan's own step leaves the
+// sideways gap and the step from fan to fan moves the sample outwards; both are worked out about
+// that axis. A cell is vouched for where this is at most twice the robot's step. Infinity when
+// unknown.
 double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& point,
                           const Eigen::Vector3d& up, double height);
 

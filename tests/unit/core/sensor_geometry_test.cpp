@@ -90,5 +90,46 @@ TEST(SensorGeometry, VerticalFansKeepTheirDirectionAboutTheVertical) {
         << f;
 }
 
+// The density check's hidden obstacle for fans about a tilted axis. With the axis along z the
+// general geometry gives what a RoSi's vertical fans do.
+TEST(SensorGeometry, HiddenObstacleAboutAnAxisAlongZIsTheVerticalFansOne) {
+  SensorGeometry rosi;
+  rosi.kind = SensorKind::kRotating2D;
+  rosi.along_line_step = 0.5 * kDeg;
+  rosi.between_line_step = 0.9 * kDeg;
+  SensorGeometry about_z = rosi;
+  about_z.tilted_axis = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  constexpr double kHeight = 1.2;
+  for (const Eigen::Vector2d& at :
+       {Eigen::Vector2d(2.0, 0.5), Eigen::Vector2d(-4.0, 3.0), Eigen::Vector2d(0.3, -7.5)}) {
+    const Eigen::Vector3d ground(at.x(), at.y(), -kHeight);
+    EXPECT_NEAR(hiddenObstacleSize(about_z, ground, up, kHeight),
+                hiddenObstacleSize(rosi, ground, up, kHeight), 1e-9)
+        << at.transpose();
+  }
+}
+
+// A nodding scanner 0.5 m up, its fans about the sideways axis 0.2 deg apart, 1 deg between the
+// beams of a fan: 5 m ahead, a fan's neighbouring beams are 5 m x 1 deg = 0.087 m apart sideways,
+// and the next fan's sample lies 0.18 m farther out, of which the farther beam protects all but
+// 2 x 5 m x 0.2 deg = 0.035 m. Read as vertical fans, the 1 deg step was taken for the one that
+// moves the sample outwards (0.175 m), and the tilt's for the sideways one.
+TEST(SensorGeometry, HiddenObstacleForANoddingScannerFollowsItsAxis) {
+  SensorGeometry nodding;
+  nodding.kind = SensorKind::kRotating2D;
+  nodding.along_line_step = 1.0 * kDeg;
+  nodding.between_line_step = 0.2 * kDeg;
+  nodding.tilted_axis = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  constexpr double kHeight = 0.5;
+  const Eigen::Vector3d ahead(5.0, 0.0, -kHeight);
+  const double range = ahead.norm();
+  EXPECT_NEAR(hiddenObstacleSize(nodding, ahead, up, kHeight), range * 1.0 * kDeg, 1e-3);
+  // The spacing the triangles allow: the tilt's step stretched on the ground, the fan's across.
+  EXPECT_NEAR(expectedGroundSpacing(nodding, 5.0, kHeight),
+              (25.0 + kHeight * kHeight) / kHeight * 0.2 * kDeg, 1e-9);
+}
+
 }  // namespace
 }  // namespace clearway

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <numbers>
 #include <string>
 
@@ -193,13 +192,7 @@ test::SimulatedRun noddingOverABend() {
   sim::ScannerPlacement placement;
   placement.position = {0.0, 0.0, 1.0};
   placement.axis = {0.0, 1.0, 0.0};  // the fans hold the sideways axis
-  test::SimulatedRun run;
-  run.simulated = sim::simulateRosi(scene, sensor, placement);
-  // As a 3DTK file has it: no turntable angle per line.
-  for (ScanLine& line : run.simulated.scan.lines)
-    line.beta = std::numeric_limits<double>::quiet_NaN();
-  run.result = runPipeline(run.simulated.scan, SegmentationParams{});
-  return run;
+  return test::simulateNodding(scene, sensor, placement);
 }
 
 TEST(GroundContinuation, AFloorBendingUpAcrossANoddingScannersFansIsGround) {
