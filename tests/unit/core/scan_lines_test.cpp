@@ -5,44 +5,15 @@
 #include <numbers>
 
 #include "clearway/io/scan_lines.h"
+#include "synthetic_fans.h"
 
 namespace clearway {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Vertical half lines like the PCL room scan: elevation sweeps +80 -> -80 deg at a fixed azimuth.
-Scan verticalFans(int fans, int points_per_fan) {
-  Scan scan;
-  for (int f = 0; f < fans; ++f) {
-    const double azimuth = f * 2.0 * kDeg;
-    for (int k = 0; k < points_per_fan; ++k) {
-      const double elevation = (80.0 - 160.0 * k / (points_per_fan - 1)) * kDeg;
-      const double range = 3.0 + 0.5 * std::sin(k * 0.1);
-      scan.points.push_back({float(range * std::cos(elevation) * std::cos(azimuth)),
-                             float(range * std::cos(elevation) * std::sin(azimuth)),
-                             float(range * std::sin(elevation))});
-      scan.status.push_back(PointStatus::kValid);
-    }
-  }
-  return scan;
-}
-
-// Horizontal fans like the octomap scan: azimuth sweeps -90 -> +90 deg, tilted down line by line.
-Scan horizontalFans(int fans, int points_per_fan) {
-  Scan scan;
-  for (int f = 0; f < fans; ++f) {
-    const double tilt = (20.0 - f * 0.5) * kDeg;
-    for (int k = 0; k < points_per_fan; ++k) {
-      const double azimuth = (-90.0 + 180.0 * k / (points_per_fan - 1)) * kDeg;
-      scan.points.push_back({float(5.0 * std::cos(tilt) * std::cos(azimuth)),
-                             float(5.0 * std::cos(tilt) * std::sin(azimuth)),
-                             float(5.0 * std::sin(tilt))});
-      scan.status.push_back(PointStatus::kValid);
-    }
-  }
-  return scan;
-}
+using test::horizontalFans;
+using test::verticalFans;
 
 TEST(ScanLines, SplitsVerticalFansWhereElevationJumpsBack) {
   Scan scan = verticalFans(40, 150);

@@ -5,45 +5,21 @@
 
 #include <Eigen/Core>
 #include <cmath>
-#include <limits>
 #include <numbers>
 
 #include "clearway/scan.h"
 #include "clearway/sensor_geometry.h"
+#include "synthetic_fans.h"
 
 namespace clearway {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// A nodding scanner's fans (3DTK's walkway scan): each a half plane holding the sideways axis,
-// swept from one side through forward to the other, tilted `step_deg` more than the one before
-// from -40 deg on. Every fan points forward on the whole: their directions about z tell them
-// nothing.
-Scan noddingFans(int fans, double step_deg) {
-  Scan scan;
-  for (int f = 0; f < fans; ++f) {
-    const double tilt = (-40.0 + f * step_deg) * kDeg;
-    ScanLine line{scan.points.size(), 0, std::numeric_limits<double>::quiet_NaN()};
-    for (int k = 0; k <= 180; ++k) {
-      const double across = (-90.0 + k) * kDeg;
-      const double range = 4.0 + 0.5 * std::sin(0.1 * k + f);
-      // In the fan's plane: forward tilted about y, and sideways along y.
-      const Eigen::Vector3d direction(std::cos(across) * std::cos(tilt), std::sin(across),
-                                      std::cos(across) * std::sin(tilt));
-      const Eigen::Vector3d p = range * direction;
-      scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
-      scan.status.push_back(PointStatus::kValid);
-      ++line.count;
-    }
-    scan.lines.push_back(line);
-  }
-  return scan;
-}
-
 TEST(SensorGeometry, ANoddingScannersFansAreOrderedByTheirTilt) {
   constexpr int kFans = 200;
-  const Scan scan = noddingFans(kFans, 0.5);
+  Scan scan = test::noddingFans(kFans, 0.5);
+  test::oneLinePer(scan, 181);
   const SensorGeometry sensor = describeSensor(scan);
   EXPECT_EQ(sensor.kind, SensorKind::kRotating2D);
   EXPECT_NEAR(sensor.between_line_step, 0.5 * kDeg, 0.02 * kDeg);
@@ -63,22 +39,9 @@ TEST(SensorGeometry, ANoddingScannersFansAreOrderedByTheirTilt) {
 // A turntable turning about the vertical (a RoSi's vertical fans): the direction of each fan's
 // points about z, as before.
 TEST(SensorGeometry, VerticalFansKeepTheirDirectionAboutTheVertical) {
-  Scan scan;
   constexpr int kFans = 180;
-  for (int f = 0; f < kFans; ++f) {
-    const double azimuth = f * 2.0 * kDeg;
-    ScanLine line{scan.points.size(), 0, std::numeric_limits<double>::quiet_NaN()};
-    for (int k = 0; k < 150; ++k) {
-      const double elevation = (80.0 - 160.0 * k / 149.0) * kDeg;
-      const double range = 3.0 + 0.5 * std::sin(k * 0.1);
-      scan.points.push_back({float(range * std::cos(elevation) * std::cos(azimuth)),
-                             float(range * std::cos(elevation) * std::sin(azimuth)),
-                             float(range * std::sin(elevation))});
-      scan.status.push_back(PointStatus::kValid);
-      ++line.count;
-    }
-    scan.lines.push_back(line);
-  }
+  Scan scan = test::verticalFans(kFans, 150);
+  test::oneLinePer(scan, 150);
   const SensorGeometry sensor = describeSensor(scan);
   EXPECT_EQ(sensor.kind, SensorKind::kRotating2D);
   EXPECT_NEAR(sensor.between_line_step, 2.0 * kDeg, 0.01 * kDeg);
