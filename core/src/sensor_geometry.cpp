@@ -455,20 +455,8 @@ double hiddenObstacleSize(const SensorGeometry& sensor, const Eigen::Vector3d& p
       horizontal > 1e-12
           ? Eigen::Vector3d(-u.z() * u.x() / horizontal, -u.z() * u.y() / horizontal, horizontal)
           : Eigen::Vector3d(-u.z(), 0.0, 0.0);  // straight up or down: azimuth 0
-  const double facing = up.dot(u);              // negative: the beam goes down to the ground
-  const double drop = std::max(height, kLowestBeamHeight);
-  if (facing > -1e-3) return std::numeric_limits<double>::infinity();  // grazing or upward
-  const double t = -drop / facing;
-  const double dt = drop * up.dot(du) / (facing * facing);
-  Eigen::Vector3d move = (t * du + dt * u) * within_step;
-  move -= move.dot(up) * up;
-  Eigen::Vector3d beam = u - facing * up;
-  if (beam.norm() < 1e-6) return std::max(across, move.norm());
-  beam.normalize();
-  const double radial = std::abs(move.dot(beam));
-  const double sideways = (move - move.dot(beam) * beam).norm();
-  const double within = std::max(sideways, std::min(radial, 2.0 * range * within_step));
-  return std::max(across, within);
+  return std::max(
+      across, unprotectedMove(u, du, within_step, up, std::max(height, kLowestBeamHeight), range));
 }
 
 double vouchedRange(const SensorGeometry& sensor, double height, double largest_hidden,

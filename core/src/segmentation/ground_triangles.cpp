@@ -402,11 +402,11 @@ LinePairing::LinePairing(const Scan& scan, const std::vector<std::int32_t>& grou
   // of all its ground): the azimuth along a ring; the elevation along a fan, seen from at least
   // kElevationHeight above the ground (from the file's origin, every ground point of a file whose
   // origin lies on the ground has an elevation near zero).
-  // Lines that sweep in azimuth instead (a nodding scanner's tilted fans) keep what served them:
-  // the elevation from the file's origin when it lies high enough, else the relative index.
-  // A nodding scanner's fans sweep from one side of their axis to the other: along them, the
-  // angle from the plane across the axis, so that a fan that lost returns (octomap's, to the sky
-  // and to glass) is not paired by relative index with returns some degrees away.
+  // Lines that sweep in azimuth instead: a nodding scanner's fans (about a tilted axis, from one
+  // side of it to the other) by the angle from the plane across that axis, so that a fan that
+  // lost returns (octomap's, to the sky and to glass) is not paired by relative index with returns
+  // some degrees away; others keep what served them, the elevation from the file's origin when it
+  // lies high enough, else the relative index.
   const bool by_angle = !scan.isOrganised();
   const bool nodding = by_angle && !multi_beam_ && sensor.tilted_axis.has_value();
   const double lift = nodding ? 0.0 : std::max(0.0, kElevationHeight - scanner_height);
