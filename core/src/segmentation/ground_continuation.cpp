@@ -72,7 +72,10 @@ class FlatCells {
   bool lowestAround(std::uint32_t cell, float z) {
     if (std::isnan(lowest_near_[cell])) {
       float lowest = kNone;
-      forCellsNear(cell, [&](std::size_t near) { lowest = std::min(lowest, lowest_[near]); });
+      forCellsNear(cell, [&](std::size_t near) {
+        lowest = std::min(lowest, lowest_[near]);
+        return true;
+      });
       lowest_near_[cell] = lowest;
     }
     return lowest_near_[cell] >= z - limits_.flatness;
@@ -87,28 +90,26 @@ class FlatCells {
  private:
   static constexpr std::uint8_t kUnknown = 0, kFlat = 1, kNotFlat = 2;
 
-  // Each cell within clear_reach of `cell`, to `visit`.
+  // Each cell within clear_reach of `cell`, to `visit`, until it returns false; whether none did.
   template <typename Visit>
-  void forCellsNear(std::uint32_t cell, Visit&& visit) const {
+  bool forCellsNear(std::uint32_t cell, Visit&& visit) const {
     const int row = int(cell / std::uint32_t(grid_.width)),
               column = int(cell % std::uint32_t(grid_.width));
     for (int r = std::max(0, row - reach_); r <= std::min(grid_.height - 1, row + reach_); ++r)
       for (int c = std::max(0, column - reach_); c <= std::min(grid_.width - 1, column + reach_);
            ++c)
-        visit(grid_.index(c, r));
+        if (!visit(grid_.index(c, r))) return false;
+    return true;
   }
 
   bool level(std::uint32_t cell) const {
     const float floor = lowest_free_[cell];
     if (floor == kNone) return false;
-    bool level = true;
-    forCellsNear(cell, [&](std::size_t near) {
-      level = level &&
-              !(highest_[near] > floor + limits_.flatness &&
-                highest_[near] < floor + limits_.clear_height) &&
-              lowest_[near] >= floor - limits_.flatness;
+    return forCellsNear(cell, [&](std::size_t near) {
+      return !(highest_[near] > floor + limits_.flatness &&
+               highest_[near] < floor + limits_.clear_height) &&
+             lowest_[near] >= floor - limits_.flatness;
     });
-    return level;
   }
 
   const MapGrid& grid_;
