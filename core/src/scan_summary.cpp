@@ -54,6 +54,9 @@ ScanSummary summarise(const Scan& scan) {
   summary.sensor = std::string(sensorKindName(sensor.kind));
   summary.rings = sensor.kind == SensorKind::kMultiBeam ? sensor.lines : 0;
   summary.closed_turn = sensor.closed_turn;
+  if (sensor.tilted_axis)
+    summary.tilted_axis = {sensor.tilted_axis->x(), sensor.tilted_axis->y(),
+                           sensor.tilted_axis->z()};
   summary.along_line_step_deg = sensor.along_line_step * 180.0 / M_PI;
   summary.between_line_step_deg = sensor.between_line_step * 180.0 / M_PI;
   return summary;
@@ -80,6 +83,13 @@ std::string toText(const ScanSummary& s) {
       << "sensor:          " << s.sensor;
   if (s.sensor == "multi-beam") out << ", rings: " << s.rings;
   if (s.closed_turn) out << ", full turn";
+  if (s.tilted_axis) {
+    // To the thousandth, as printed, and + 0.0: a component a hair below zero prints as 0.
+    auto shown = [](double component) { return std::round(component * 1000.0) / 1000.0 + 0.0; };
+    const auto& axis = *s.tilted_axis;
+    out << ", fans about a tilted axis (nodding) " << shown(axis[0]) << ' ' << shown(axis[1]) << ' '
+        << shown(axis[2]);
+  }
   out << " (steps: " << s.along_line_step_deg << " deg along a line, " << s.between_line_step_deg
       << " deg between lines)";
   out << '\n';
@@ -116,6 +126,7 @@ std::string toJson(const ScanSummary& s) {
   json["sensor"] = s.sensor;
   if (s.sensor == "multi-beam") json["rings"] = s.rings;
   json["closed_turn"] = s.closed_turn;
+  if (s.tilted_axis) json["tilted_axis"] = *s.tilted_axis;
   json["along_line_step_deg"] = s.along_line_step_deg;
   json["between_line_step_deg"] = s.between_line_step_deg;
   if (!s.bounds.empty())

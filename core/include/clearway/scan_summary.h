@@ -2,6 +2,7 @@
 
 // What `clearway-cli info` and the GUI's scan panel tell about a scan.
 
+#include <array>
 #include <cstddef>
 #include <optional>
 #include <string>
@@ -30,10 +31,12 @@ struct ScanSummary {
   std::optional<SensorPose> sensor_pose;
   std::string pose_source = "none";  // what resolveScanPose chose (pose.h)
   std::string pose_detail;
-  std::string sensor;                // "rotating 2D", "multi-beam" or "unknown" (sensor_geometry.h)
-  std::size_t rings = 0;             // multi-beam: the rings (its scan lines)
-  bool closed_turn = false;          // rotating 2D: the lines go once around (last meets first)
-  double along_line_step_deg = 0.0;  // median angle between returns of a line
+  std::string sensor;        // "rotating 2D", "multi-beam" or "unknown" (sensor_geometry.h)
+  std::size_t rings = 0;     // multi-beam: the rings (its scan lines)
+  bool closed_turn = false;  // rotating 2D: the lines go once around (last meets first)
+  // rotating 2D: the axis its fans turn about when far from z (a nodding scanner's; x, y, z)
+  std::optional<std::array<double, 3>> tilted_axis;
+  double along_line_step_deg = 0.0;    // median angle between returns of a line
   double between_line_step_deg = 0.0;  // median angle between neighbouring lines
 };
 

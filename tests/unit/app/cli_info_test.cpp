@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "test_support.h"
@@ -22,6 +23,9 @@ TEST(CliInfo, JsonOnARealScanHasTheAgreedKeys) {
   EXPECT_EQ(json.at("scan_lines"), 491);
   EXPECT_EQ(json.at("points_per_line"), 181);
   EXPECT_EQ(json.at("organised"), false);
+  // Its fans turn about the sideways axis (y).
+  ASSERT_TRUE(json.contains("tilted_axis")) << result.out;
+  EXPECT_GT(std::abs(json.at("tilted_axis").at(1).get<double>()), 0.99) << result.out;
 }
 
 TEST(CliInfo, TextOutputNamesTheCounts) {
@@ -30,6 +34,9 @@ TEST(CliInfo, TextOutputNamesTheCounts) {
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("scan_lines:      226"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("organised:       yes"), std::string::npos) << result.out;
+  // A nodding scanner: its fans turn about the sideways axis, 0.517 deg apart (SOURCE.txt).
+  EXPECT_NE(result.out.find("fans about a tilted axis (nodding)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("0.517 deg between lines"), std::string::npos) << result.out;
 }
 
 TEST(CliInfo, BadFileExitsOneWithAOneLineError) {
