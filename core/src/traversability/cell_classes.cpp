@@ -79,6 +79,11 @@ class RobotBox {
 // begins. Without it the robot's box stood 4-8 cm into a 0.11 m box (tests' ObstacleFace).
 constexpr double kFaceReach = 0.1;
 
+// The step check looks across unobserved gaps up to this wide [m]: as wide as the gaps sparse
+// wall sampling leaves (kWallGapBridge, footprints.cpp), and wider than the gaps between scan lines
+// near the robot. Across a wider gap the far ground says little about where a step would be.
+constexpr double kStepGapReach = 0.3;
+
 // Per obstacle, 1 where it is a low return on the face or foot of a tall one (kFaceReach).
 std::vector<std::uint8_t> facesOfTallObstacles(const MapInputs& inputs,
                                                const std::vector<std::uint8_t>& tall,
@@ -377,7 +382,10 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     classes.blocked_by_points_only[cell] = was_blocked ? 0 : 1;
   }
 
-  // Steps between ground cells higher than the robot can take.
+  // Steps between ground cells higher than the robot can take: next to each other, or either side
+  // of a short unobserved gap (the step's edge may lie anywhere in it, or just inside the lower
+  // cell, whose returns were then the step's face).
+  const int gap_reach = int(std::floor(kStepGapReach / grid.resolution));
   for (int row = 0; row < grid.height; ++row) {
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t here = grid.index(column, row);
@@ -389,10 +397,27 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
       }
       for (const auto& [dc, dr] :
            {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}}) {
-        if (!grid.inside(column + dc, row + dr)) continue;
-        const std::size_t there = grid.index(column + dc, row + dr);
+        // The nearest cell with ground in this direction, over unobserved cells only.
+        int c = column + dc, r = row + dr;
+        for (int crossed = 0; grid.inside(c, r) && crossed < gap_reach; ++crossed) {
+          const std::size_t there = grid.index(c, r);
+          if (inputs.ground_plane[there] >= 0 || classes.state[there] != CellState::kUnknown) break;
+          c += dc;
+          r += dr;
+        }
+        if (!grid.inside(c, r)) continue;
+        const std::size_t there = grid.index(c, r);
         if (inputs.ground_plane[there] < 0) continue;
-        if (std::abs(inputs.ground_height[here] - inputs.ground_height[there]) > robot.max_step) {
+        // Across a gap, what the ground's own slope explains is no step (a ramp's scan lines leave
+        // such gaps): the rise is measured against this cell's ground plane.
+        const Eigen::Vector3d& plane =
+            analysis.height_coefficients[std::size_t(inputs.ground_plane[here])];
+        const double slope_rise =
+            std::abs(c - column) + std::abs(r - row) > 1
+                ? (plane[1] * (c - column) + plane[2] * (r - row)) * grid.resolution
+                : 0.0;
+        if (std::abs(inputs.ground_height[there] - inputs.ground_height[here] - slope_rise) >
+            robot.max_step) {
           classes.state[here] = CellState::kBlocked;
           classes.reason[here] = CellReason::kTooSteep;
           break;

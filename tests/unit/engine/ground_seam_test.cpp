@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <memory>
+#include <numbers>
 
 #include "clearway/pipeline.h"
 #include "engine_fixtures.h"
@@ -94,6 +96,31 @@ TEST(GroundSeam, AKerbSeenFaceOnIsNotSplitByTheUpperLevelsBand) {
   EXPECT_GT(e.map.traversable_cells, 5000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
   EXPECT_FALSE(test::connectedInMap(run, {8.5, 0.0, 0.0}, {12.0, 0.0, 0.15}));
+}
+
+TEST(GroundSeam, AStepBetweenTwoScanLinesKeepsTheBoxOffItsEdge) {
+  // The outdoor scene's paving slabs meet at x = 4 m with a 0.13 m step where the third slab rolls
+  // up. Seen at 120 lines through an axis tilted 35 deg and rolled 20 deg, one line met only the
+  // step's face (5 cm up) and the next the upper slab 0.13 m farther on; between them nothing.
+  // The lower side's last cell held the face's returns and looked like floor: the robot's box,
+  // 0.6 m wide, stood 7 cm onto the upper slab (4 false cells; scripts/variant-sweep).
+  const sim::Scene scene = *sim::builtinScene("outdoor");
+  sim::SensorModel sensor;
+  sensor.lines = 120;
+  sensor.seed = 3;
+  sensor.range_noise_sigma = 0.005;
+  sensor.mixed_pixels = true;
+  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
+  placement.axis =
+      Eigen::AngleAxisd(35.0 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) * placement.axis;
+  placement.axis_roll_deg = 20.0;
+  SegmentationParams params;
+  params.robot.width = 0.6;
+  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  const eval::Evaluation e = test::evaluateRun(run, params);
+  EXPECT_GT(e.map.traversable_cells, 10000U);
+  EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
 }  // namespace

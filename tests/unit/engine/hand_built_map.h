@@ -47,6 +47,21 @@ class HandBuiltMap {
     return *this;
   }
 
+  // Cells whose centres lie in [x0, x1) x [y0, y1) become observed ground of `level` on a ramp
+  // rising `slope` (dz / dx) along x from height 0 at x = 0; the level's plane is that ramp.
+  HandBuiltMap& ramp(double x0, double y0, double x1, double y1, int level, double slope) {
+    floor(x0, y0, x1, y1, level);
+    analysis_.height_coefficients[std::size_t(level)] = Eigen::Vector3d(0.0, slope, 0.0);
+    const MapGrid& grid = analysis_.inputs.grid;
+    for (std::size_t cell = 0; cell < grid.cells(); ++cell) {
+      const auto row = int(cell / std::size_t(grid.width));
+      const int column = int(cell) - row * grid.width;
+      if (analysis_.inputs.ground_plane[cell] == level)
+        analysis_.inputs.ground_height[cell] = float(slope * grid.centre(column, row).x());
+    }
+    return *this;
+  }
+
   // One measured non-ground point at map (x, y), `height` above the local ground.
   HandBuiltMap& point(double x, double y, double height) {
     const MapGrid& grid = analysis_.inputs.grid;

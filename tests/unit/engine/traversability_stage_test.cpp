@@ -338,6 +338,59 @@ TEST(TraversabilityStage, AHeightJumpWithinOneGroundLevelIsTooSteepOnBothSides) 
   }
 }
 
+// One ground level whose two parts, `rise` apart in height, are seen either side of an unobserved
+// strip two cells wide along x = 2.0 .. 2.1 (a step's edge between two scan lines): the robot
+// stands at (-1, 0) on the lower part.
+HandBuiltMap levelsAcrossAGap(double rise) {
+  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
+  built.floor(-2.75, -1.75, 2.0, 1.75)
+      .floor(2.1, -1.75, 4.75, 1.75, 0, rise)
+      .robotAt(-1.0, 0.0, 0.0);
+  return built;
+}
+
+// The step lies somewhere in the strip, perhaps right at the edge of the last lower cell, whose
+// returns were then the step's face (the outdoor scene's slabs at 120 lines: the box stood 7 cm
+// over a 0.13 m step): the cells either side of the strip are too steep, as if they touched.
+TEST(TraversabilityStage, AHeightJumpAcrossAnUnobservedGapIsTooSteepOnBothSides) {
+  const RobotParams robot = testRobot();
+  const TraversabilityMap map = mapOf(levelsAcrossAGap(robot.max_step + 0.03), robot);
+  for (double x : {1.975, 2.125}) {
+    const Cell edge = cellAt(map, x, 0.025);
+    EXPECT_EQ(edge.label, CellLabel::kImpassable) << "at x = " << x << ": " << describe(edge);
+    EXPECT_EQ(reasonName(edge.reason), "too steep") << "at x = " << x;
+  }
+  // One cell farther in, the box no longer covers the edge cell's centre: green again.
+  const Cell inside = cellAt(map, 1.475, 0.025);
+  EXPECT_EQ(inside.label, CellLabel::kTraversable) << describe(inside);
+}
+
+TEST(TraversabilityStage, ARiseWithinTheStepAcrossAnUnobservedGapIsNoStep) {
+  const RobotParams robot = testRobot();
+  const TraversabilityMap map = mapOf(levelsAcrossAGap(robot.max_step - 0.03), robot);
+  for (double x : {1.975, 2.125}) {
+    const Cell edge = cellAt(map, x, 0.025);
+    EXPECT_NE(reasonName(edge.reason), "too steep") << "at x = " << x << ": " << describe(edge);
+  }
+}
+
+// A ramp steep enough (35 deg) to rise by more than the step across the strip: its slope explains
+// the rise, which is no step.
+TEST(TraversabilityStage, ARampsRiseAcrossAnUnobservedGapIsNoStep) {
+  const RobotParams robot = testRobot();
+  const double slope = std::tan(35.0 * std::numbers::pi / 180);
+  ASSERT_GT(slope * 0.15, robot.max_step);  // the rise between the strip's two edge cells
+  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
+  built.ramp(-2.75, -1.75, 2.0, 1.75, 0, slope)
+      .ramp(2.1, -1.75, 4.75, 1.75, 0, slope)
+      .robotAt(-1.0, 0.0, 0.0);
+  const TraversabilityMap map = mapOf(built, robot);
+  for (double x : {1.975, 2.125}) {
+    const Cell edge = cellAt(map, x, 0.025);
+    EXPECT_NE(reasonName(edge.reason), "too steep") << "at x = " << x << ": " << describe(edge);
+  }
+}
+
 // Ground up to the grid's edge (a multi-beam map cut at its vouched range has no unobserved rim):
 // what lies beyond the map was not seen, so a box that would stick out of it does not fit there.
 TEST(TraversabilityStage, ABoxStickingOutOfTheMapDoesNotFit) {
