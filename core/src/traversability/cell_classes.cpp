@@ -308,6 +308,59 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
       });
 }
 
+// Ground cells where the ground steps by more than the robot can take become blocked (too steep):
+// cells stepped by a seam (MapInputs::seam_step), and cells whose ground differs by more than the
+// step from the next ground along a row or a column, next to them or across a short unobserved
+// gap (kStepGapReach; the step's edge may lie anywhere in the gap, or just inside the lower cell,
+// whose returns were then the step's face). Across a gap, what the first cell's ground plane rises
+// over that distance is no step (a ramp's scan lines leave such gaps). Pairs of ground cells are
+// found by one sweep along the rows and one down the columns.
+void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes) {
+  const MapInputs& inputs = analysis.inputs;
+  const MapGrid& grid = inputs.grid;
+  const std::vector<CellState> state = classes.state;  // as it was before any cell is marked
+  auto mark = [&](std::size_t cell) {
+    classes.state[cell] = CellState::kBlocked;
+    classes.reason[cell] = CellReason::kTooSteep;
+  };
+  if (!inputs.seam_step.empty())
+    for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+      if (state[cell] == CellState::kGround && inputs.seam_step[cell] > robot.max_step) mark(cell);
+  // Whether the ground of `from` steps towards that of `to`, (dc, dr) cells away.
+  auto stepsTowards = [&](std::size_t from, std::size_t to, int dc, int dr) {
+    const Eigen::Vector3d& plane =
+        analysis.height_coefficients[std::size_t(inputs.ground_plane[from])];
+    const double slope_rise =
+        std::abs(dc) + std::abs(dr) > 1 ? (plane[1] * dc + plane[2] * dr) * grid.resolution : 0.0;
+    return std::abs(inputs.ground_height[to] - inputs.ground_height[from] - slope_rise) >
+           robot.max_step;
+  };
+  auto comparePair = [&](std::size_t a, std::size_t b, int dc, int dr) {
+    if (state[a] == CellState::kGround && stepsTowards(a, b, dc, dr)) mark(a);
+    if (state[b] == CellState::kGround && stepsTowards(b, a, -dc, -dr)) mark(b);
+  };
+  const int gap_reach = int(std::floor(kStepGapReach / grid.resolution));
+  // Per column, the row of the last ground cell met with only unobserved cells since (else -1).
+  std::vector<int> last_in_column(std::size_t(grid.width), -1);
+  for (int row = 0; row < grid.height; ++row) {
+    int last_in_row = -1;  // the same along this row
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      int& above = last_in_column[std::size_t(column)];
+      if (inputs.ground_plane[cell] < 0) {
+        if (state[cell] != CellState::kUnknown) last_in_row = above = -1;
+        continue;
+      }
+      if (last_in_row >= 0 && column - last_in_row - 1 <= gap_reach)
+        comparePair(grid.index(last_in_row, row), cell, column - last_in_row, 0);
+      if (above >= 0 && row - above - 1 <= gap_reach)
+        comparePair(grid.index(column, above), cell, 0, row - above);
+      last_in_row = column;
+      above = row;
+    }
+  }
+}
+
 }  // namespace
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
@@ -382,49 +435,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     classes.blocked_by_points_only[cell] = was_blocked ? 0 : 1;
   }
 
-  // Steps between ground cells higher than the robot can take: next to each other, or either side
-  // of a short unobserved gap (the step's edge may lie anywhere in it, or just inside the lower
-  // cell, whose returns were then the step's face).
-  const int gap_reach = int(std::floor(kStepGapReach / grid.resolution));
-  for (int row = 0; row < grid.height; ++row) {
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t here = grid.index(column, row);
-      if (classes.state[here] != CellState::kGround) continue;
-      if (!inputs.seam_step.empty() && inputs.seam_step[here] > robot.max_step) {
-        classes.state[here] = CellState::kBlocked;
-        classes.reason[here] = CellReason::kTooSteep;
-        continue;
-      }
-      for (const auto& [dc, dr] :
-           {std::pair{1, 0}, std::pair{0, 1}, std::pair{-1, 0}, std::pair{0, -1}}) {
-        // The nearest cell with ground in this direction, over unobserved cells only.
-        int c = column + dc, r = row + dr;
-        for (int crossed = 0; grid.inside(c, r) && crossed < gap_reach; ++crossed) {
-          const std::size_t there = grid.index(c, r);
-          if (inputs.ground_plane[there] >= 0 || classes.state[there] != CellState::kUnknown) break;
-          c += dc;
-          r += dr;
-        }
-        if (!grid.inside(c, r)) continue;
-        const std::size_t there = grid.index(c, r);
-        if (inputs.ground_plane[there] < 0) continue;
-        // Across a gap, what the ground's own slope explains is no step (a ramp's scan lines leave
-        // such gaps): the rise is measured against this cell's ground plane.
-        const Eigen::Vector3d& plane =
-            analysis.height_coefficients[std::size_t(inputs.ground_plane[here])];
-        const double slope_rise =
-            std::abs(c - column) + std::abs(r - row) > 1
-                ? (plane[1] * (c - column) + plane[2] * (r - row)) * grid.resolution
-                : 0.0;
-        if (std::abs(inputs.ground_height[there] - inputs.ground_height[here] - slope_rise) >
-            robot.max_step) {
-          classes.state[here] = CellState::kBlocked;
-          classes.reason[here] = CellReason::kTooSteep;
-          break;
-        }
-      }
-    }
-  }
+  markSteps(analysis, robot, classes);
 
   // The robot stands on its own place: the floor under it is ground, seen or not.
   if (own_place) {
