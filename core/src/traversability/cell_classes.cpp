@@ -79,6 +79,10 @@ class RobotBox {
 // begins. Without it the robot's box stood 4-8 cm into a 0.11 m box (tests' ObstacleFace).
 constexpr double kFaceReach = 0.1;
 
+// The step check compares ground heights over runs this long [m]: a step the ground triangles
+// spread over a few cells (from the last return below it to the first above) is still a step.
+constexpr double kStepRun = 0.15;
+
 // The step check looks across unobserved gaps up to this wide [m]: as wide as the gaps sparse
 // wall sampling leaves (kWallGapBridge, footprints.cpp), and wider than the gaps between scan lines
 // near the robot. Across a wider gap the far ground says little about where a step would be.
@@ -309,56 +313,75 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
 }
 
 // Ground cells where the ground steps by more than the robot can take become blocked (too steep):
-// cells stepped by a seam (MapInputs::seam_step), and cells whose ground differs by more than the
-// step from the next ground along a row or a column, next to them or across a short unobserved
-// gap (kStepGapReach; the step's edge may lie anywhere in the gap, or just inside the lower cell,
-// whose returns were then the step's face). Across a gap, what the first cell's ground plane rises
-// over that distance is no step (a ramp's scan lines leave such gaps). Pairs of ground cells are
-// found by one sweep along the rows and one down the columns.
+// cells stepped by a seam (MapInputs::seam_step), and the two ends of a step along a row or a
+// column. Heights are compared between cells next to each other, over a short run of cells
+// (kStepRun: the ground triangles spread a step over the few centimetres between the last return
+// below it and the first above, and a step's face seen from the front raises the cell it falls
+// in, splitting the step in two), and across a short unobserved gap (kStepGapReach: the step's
+// edge may lie anywhere in it, or just inside the lower cell, whose returns were then the step's
+// face). Beyond the next cell, what either cell's ground plane rises over the distance is no step
+// (a ramp's scan lines leave gaps, and its foot joins the floor over a few cells).
 void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes) {
   const MapInputs& inputs = analysis.inputs;
   const MapGrid& grid = inputs.grid;
   const std::vector<CellState> state = classes.state;  // as it was before any cell is marked
   auto mark = [&](std::size_t cell) {
+    if (state[cell] != CellState::kGround) return;
     classes.state[cell] = CellState::kBlocked;
     classes.reason[cell] = CellReason::kTooSteep;
   };
   if (!inputs.seam_step.empty())
     for (std::size_t cell = 0; cell < grid.cells(); ++cell)
-      if (state[cell] == CellState::kGround && inputs.seam_step[cell] > robot.max_step) mark(cell);
-  // Whether the ground of `from` steps towards that of `to`, (dc, dr) cells away.
-  auto stepsTowards = [&](std::size_t from, std::size_t to, int dc, int dr) {
+      if (inputs.seam_step[cell] > robot.max_step) mark(cell);
+  // What the ground plane of `cell` rises over (dc, dr) cells.
+  auto planeRise = [&](std::size_t cell, int dc, int dr) {
     const Eigen::Vector3d& plane =
-        analysis.height_coefficients[std::size_t(inputs.ground_plane[from])];
-    const double slope_rise =
-        std::abs(dc) + std::abs(dr) > 1 ? (plane[1] * dc + plane[2] * dr) * grid.resolution : 0.0;
-    return std::abs(inputs.ground_height[to] - inputs.ground_height[from] - slope_rise) >
-           robot.max_step;
+        analysis.height_coefficients[std::size_t(inputs.ground_plane[cell])];
+    return (plane[1] * dc + plane[2] * dr) * grid.resolution;
   };
-  auto comparePair = [&](std::size_t a, std::size_t b, int dc, int dr) {
-    if (state[a] == CellState::kGround && stepsTowards(a, b, dc, dr)) mark(a);
-    if (state[b] == CellState::kGround && stepsTowards(b, a, -dc, -dr)) mark(b);
+  // Whether the ground steps between ground cell `from` and `to`, (dc, dr) cells on.
+  auto isStep = [&](std::size_t from, std::size_t to, int dc, int dr) {
+    const double rise = inputs.ground_height[to] - inputs.ground_height[from];
+    if (std::abs(dc) + std::abs(dr) == 1) return std::abs(rise) > robot.max_step;
+    return std::abs(rise - planeRise(from, dc, dr)) > robot.max_step &&
+           std::abs(rise - planeRise(to, dc, dr)) > robot.max_step;
   };
-  const int gap_reach = int(std::floor(kStepGapReach / grid.resolution));
-  // Per column, the row of the last ground cell met with only unobserved cells since (else -1).
-  std::vector<int> last_in_column(std::size_t(grid.width), -1);
-  for (int row = 0; row < grid.height; ++row) {
-    int last_in_row = -1;  // the same along this row
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      int& above = last_in_column[std::size_t(column)];
-      if (inputs.ground_plane[cell] < 0) {
-        if (state[cell] != CellState::kUnknown) last_in_row = above = -1;
+  const int gap_cells = int(std::floor(kStepGapReach / grid.resolution));
+  const int run_cells = std::max(1, int(std::floor(kStepRun / grid.resolution + 1e-9)));
+  const int look_back = std::max(gap_cells + 1, run_cells);
+  // A ground cell against the ground cells before it along one axis (`stride` apart in the grid's
+  // index, `available` of them inside the grid, (dc, dr) the axis), nearest first: the next ground
+  // cell across unobserved cells, then over the run those with ground cells between, as long as
+  // no two of these differ by a step themselves (a sharp step stands for itself).
+  auto compareBack = [&](std::size_t cell, std::size_t stride, int available, int dc, int dr) {
+    std::size_t nearer = cell;  // the last ground cell met before the one looked at
+    int nearer_distance = 0;
+    for (int d = 1; d <= std::min(look_back, available); ++d) {
+      const std::size_t earlier = cell - std::size_t(d) * stride;
+      if (inputs.ground_plane[earlier] < 0) {
+        if (state[earlier] != CellState::kUnknown) return;  // blocked by points: they stand for it
         continue;
       }
-      if (last_in_row >= 0 && column - last_in_row - 1 <= gap_reach)
-        comparePair(grid.index(last_in_row, row), cell, column - last_in_row, 0);
-      if (above >= 0 && row - above - 1 <= gap_reach)
-        comparePair(grid.index(column, above), cell, 0, row - above);
-      last_in_row = column;
-      above = row;
+      if (nearer_distance > 0 &&
+          (d > run_cells ||
+           isStep(earlier, nearer, (d - nearer_distance) * dc, (d - nearer_distance) * dr)))
+        return;
+      if (isStep(earlier, cell, d * dc, d * dr)) {
+        mark(earlier);
+        mark(cell);
+        return;
+      }
+      nearer = earlier;
+      nearer_distance = d;
     }
-  }
+  };
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      if (inputs.ground_plane[cell] < 0) continue;
+      compareBack(cell, 1, column, 1, 0);
+      compareBack(cell, std::size_t(grid.width), row, 0, 1);
+    }
 }
 
 }  // namespace

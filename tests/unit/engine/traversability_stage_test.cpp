@@ -391,6 +391,58 @@ TEST(TraversabilityStage, ARampsRiseAcrossAnUnobservedGapIsNoStep) {
   }
 }
 
+// One ground level rising by `rise` over the two cell columns x = 2.0 .. 2.1, in even steps of a
+// third of it from the floor (x < 2.0) to the upper part (x >= 2.1): a step the ground triangles
+// spread over the last return below it and the first above.
+HandBuiltMap spreadStep(double rise) {
+  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
+  built.floor(-2.75, -1.75, 2.0, 1.75)
+      .floor(2.0, -1.75, 2.05, 1.75, 0, rise / 3)
+      .floor(2.05, -1.75, 2.1, 1.75, 0, 2 * rise / 3)
+      .floor(2.1, -1.75, 4.75, 1.75, 0, rise)
+      .robotAt(-1.0, 0.0, 0.0);
+  return built;
+}
+
+// No two cells next to each other differ by the step, but over the three cells from the floor's
+// last to the upper part's first the ground rises by more: the ends of that run are too steep.
+TEST(TraversabilityStage, AStepSpreadOverAFewCellsIsStillAStep) {
+  const RobotParams robot = testRobot();
+  const TraversabilityMap map = mapOf(spreadStep(robot.max_step + 0.02), robot);
+  for (double x : {1.975, 2.125}) {
+    const Cell edge = cellAt(map, x, 0.025);
+    EXPECT_EQ(reasonName(edge.reason), "too steep") << "at x = " << x << ": " << describe(edge);
+  }
+  const Cell inside = cellAt(map, 1.475, 0.025);
+  EXPECT_EQ(inside.label, CellLabel::kTraversable) << describe(inside);
+}
+
+TEST(TraversabilityStage, ARiseWithinTheStepSpreadOverAFewCellsIsNoStep) {
+  const RobotParams robot = testRobot();
+  const TraversabilityMap map = mapOf(spreadStep(robot.max_step - 0.02), robot);
+  for (double x : {1.975, 2.025, 2.075, 2.125}) {
+    const Cell cell = cellAt(map, x, 0.025);
+    EXPECT_NE(reasonName(cell.reason), "too steep") << "at x = " << x << ": " << describe(cell);
+  }
+}
+
+// A sharp step stands for itself: the floor's cells farther from it than the next one keep their
+// label (a stair's first riser does not push the robot back by the run).
+TEST(TraversabilityStage, ASharpStepMarksOnlyTheCellsBesideIt) {
+  const RobotParams robot = testRobot();
+  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
+  built.floor(-2.75, -1.75, 2.0, 1.75)
+      .floor(2.0, -1.75, 4.75, 1.75, 0, robot.max_step + 0.05)
+      .robotAt(-1.0, 0.0, 0.0);
+  const TraversabilityMap map = mapOf(built, robot);
+  for (double x : {1.975, 2.025})
+    EXPECT_EQ(reasonName(cellAt(map, x, 0.025).reason), "too steep") << "at x = " << x;
+  for (double x : {1.875, 1.925, 2.075, 2.125}) {
+    const Cell cell = cellAt(map, x, 0.025);
+    EXPECT_NE(reasonName(cell.reason), "too steep") << "at x = " << x << ": " << describe(cell);
+  }
+}
+
 // Ground up to the grid's edge (a multi-beam map cut at its vouched range has no unobserved rim):
 // what lies beyond the map was not seen, so a box that would stick out of it does not fit there.
 TEST(TraversabilityStage, ABoxStickingOutOfTheMapDoesNotFit) {
