@@ -394,6 +394,41 @@ double EdgeLimit::joinedStep(const std::vector<std::int32_t>& ground_of, std::si
   return std::max(step, highest - lowest) + kJoinedStepUncertainty;
 }
 
+double EdgeLimit::spannedStep(const std::vector<std::int32_t>& ground_of, std::size_t a,
+                              std::size_t b, std::size_t c) const {
+  const std::int32_t g = ground_of[a];
+  if (plane_heights.empty() || ground_of[b] != g || ground_of[c] != g) return 0.0;
+  if (!continued.empty() && (continued[a] || continued[b] || continued[c])) return 0.0;
+  const Eigen::Vector3f &pa = mapped[a], &pb = mapped[b], &pc = mapped[c];
+  const double longest =
+      std::sqrt(std::max({(pa - pb).head<2>().squaredNorm(), (pb - pc).head<2>().squaredNorm(),
+                          (pa - pc).head<2>().squaredNorm()}));
+  // Longer than two samples' spacing at its nearest corner's range: no beam saw what it bridges
+  // (a lost beam makes it that long already).
+  const double nearest = std::min(
+      {double(pa.head<2>().norm()), double(pb.head<2>().norm()), double(pc.head<2>().norm())});
+  const double sampled = kSpacingsPerEdge * expectedGroundSpacing(sensor, nearest, scanner_height);
+  if (longest <= std::max(kStepRunLength, sampled)) return 0.0;
+  // How far a corner farther from the scanner (the map's origin) lies below a nearer one, about
+  // the plane: a drop away from the scanner hides in its own shadow, while a rise towards it is
+  // seen (its face's returns) and a rise away from it is seen on its slope.
+  const Eigen::Vector3d& plane = plane_heights[std::size_t(g)];
+  struct Corner {
+    double range, off_plane;
+  };
+  std::array<Corner, 3> corners;
+  const std::array<const Eigen::Vector3f*, 3> points = {&pa, &pb, &pc};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const Eigen::Vector3f& p = *points[i];
+    corners[i] = {double(p.head<2>().norm()), double(p.z()) - heightOnPlane(plane, p.x(), p.y())};
+  }
+  double drop = 0.0;
+  for (const Corner& near : corners)
+    for (const Corner& far : corners)
+      if (far.range > near.range) drop = std::max(drop, near.off_plane - far.off_plane);
+  return std::isfinite(drop) ? drop : 0.0;
+}
+
 LinePairing::LinePairing(const Scan& scan, const std::vector<std::int32_t>& ground_of,
                          const SensorGeometry& sensor, double scanner_height, int threads)
     : multi_beam_(sensor.kind == SensorKind::kMultiBeam) {

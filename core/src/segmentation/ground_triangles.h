@@ -53,6 +53,15 @@ struct EdgeLimit {
                     std::size_t c) const;
   static constexpr double kTouchingStep = 0.05;
   static constexpr double kJoinedStepUncertainty = 0.02;
+  // The step a triangle of ground points `a`, `b`, `c` of one plane may hide: how far, about the
+  // plane (its own slope is no step), a corner farther from the scanner lies below a nearer one,
+  // where its longest edge is longer than kStepRunLength (scan_analysis.h); 0 for a shorter
+  // triangle (the cells' step rule compares heights over such runs) and for one joining planes
+  // (joinedStep). Behind a drop away from the scanner the ground lies in the drop's shadow: a long
+  // triangle bridges it from the edge to the first return beyond, and a drop just deeper than the
+  // robot's step became a gentle slope. Ground rising away from the scanner is seen on its slope.
+  double spannedStep(const std::vector<std::int32_t>& ground_of, std::size_t a, std::size_t b,
+                     std::size_t c) const;
   double maxEdgeSquared(std::size_t point) const {
     const double range = double(mapped[point].head<2>().norm());
     const double spacing = expectedGroundSpacing(sensor, range, scanner_height);

@@ -258,8 +258,10 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
     // its normal (closed form: a QR solve per triangle was a tenth of a multi-beam frame's
     // time). A triangle flat in x-y covers no cell centre; it keeps its first corner's z.
     // A triangle joining two ground planes spans their step over the cells it fills.
-    const float joined_step =
-        float(limit.joinedStep(ground_of, triangle[0], triangle[1], triangle[2]));
+    // A long triangle of one plane may hide a step in what it bridges.
+    float joined_step = float(limit.joinedStep(ground_of, triangle[0], triangle[1], triangle[2]));
+    if (joined_step == 0.0F)
+      joined_step = float(limit.spannedStep(ground_of, triangle[0], triangle[1], triangle[2]));
     const bool joins = joined_step > 0.0F;
     const Eigen::Vector3d p0 = mapped[triangle[0]].cast<double>();
     const Eigen::Vector3d normal =

@@ -79,10 +79,6 @@ class RobotBox {
 // begins. Without it the robot's box stood 4-8 cm into a 0.11 m box (tests' ObstacleFace).
 constexpr double kFaceReach = 0.1;
 
-// The step check compares ground heights over runs this long [m]: a step the ground triangles
-// spread over a few cells (from the last return below it to the first above) is still a step.
-constexpr double kStepRun = 0.15;
-
 // The step check looks across unobserved gaps up to this wide [m]: as wide as the gaps sparse
 // wall sampling leaves (kWallGapBridge, footprints.cpp), and wider than the gaps between scan lines
 // near the robot. Across a wider gap the far ground says little about where a step would be.
@@ -315,12 +311,12 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
 // Ground cells where the ground steps by more than the robot can take become blocked (too steep):
 // cells stepped by a seam (MapInputs::seam_step), and the two ends of a step along a row or a
 // column. Heights are compared between cells next to each other, over a short run of cells
-// (kStepRun: the ground triangles spread a step over the few centimetres between the last return
-// below it and the first above, and a step's face seen from the front raises the cell it falls
-// in, splitting the step in two), and across a short unobserved gap (kStepGapReach: the step's
-// edge may lie anywhere in it, or just inside the lower cell, whose returns were then the step's
-// face). Beyond the next cell, what either cell's ground plane rises over the distance is no step
-// (a ramp's scan lines leave gaps, and its foot joins the floor over a few cells).
+// (kStepRunLength: the ground triangles spread a step over the few centimetres between the last
+// return below it and the first above, and a step's face seen from the front raises the cell it
+// falls in, splitting the step in two), and across a short unobserved gap (kStepGapReach: the
+// step's edge may lie anywhere in it, or just inside the lower cell, whose returns were then the
+// step's face). Beyond the next cell, what either cell's ground plane rises over the distance is no
+// step (a ramp's scan lines leave gaps, and its foot joins the floor over a few cells).
 void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes) {
   const MapInputs& inputs = analysis.inputs;
   const MapGrid& grid = inputs.grid;
@@ -347,7 +343,7 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
            std::abs(rise - planeRise(to, dc, dr)) > robot.max_step;
   };
   const int gap_cells = int(std::floor(kStepGapReach / grid.resolution));
-  const int run_cells = std::max(1, int(std::floor(kStepRun / grid.resolution + 1e-9)));
+  const int run_cells = std::max(1, int(std::floor(kStepRunLength / grid.resolution + 1e-9)));
   const int look_back = std::max(gap_cells + 1, run_cells);
   // A ground cell against the ground cells before it along one axis (`stride` apart in the grid's
   // index, `available` of them inside the grid, (dc, dr) the axis), nearest first: the next ground

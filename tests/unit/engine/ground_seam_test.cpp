@@ -149,5 +149,29 @@ TEST(GroundSeam, AStepTheTrianglesSpreadIsStillAStepForTheRobot) {
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
+TEST(GroundSeam, ADropInItsOwnShadowIsAStepForTheRobot) {
+  // The same joint near y = -2 m, where slab_2 falls 0.05-0.07 m below slab_1, away from the
+  // scanner: the ground behind the edge lies in its shadow, and the triangles bridged it from the
+  // edge to the first return beyond, 0.3-0.7 m, a gentle slope on the map. For a robot whose step
+  // is 0.05 m the box stood across the drop (81 false cells, found by a randomised sweep).
+  const sim::Scene scene = *sim::builtinScene("outdoor");
+  sim::SensorModel sensor;
+  sensor.lines = 423;
+  sensor.seed = 821;
+  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
+  placement.axis =
+      Eigen::AngleAxisd(-13.82 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) * placement.axis;
+  placement.axis_roll_deg = 7.63;
+  SegmentationParams params;
+  params.robot.width = 0.826;
+  params.robot.length = 1.035;
+  params.robot.max_step = 0.05;
+  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  const eval::Evaluation e = test::evaluateRun(run, params);
+  EXPECT_GT(e.map.traversable_cells, 10000U);
+  EXPECT_EQ(e.map.false_traversable_cells, 0U);
+}
+
 }  // namespace
 }  // namespace clearway

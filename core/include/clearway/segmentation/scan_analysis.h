@@ -91,6 +91,12 @@ inline double heightOnPlane(const Eigen::Vector3d& c, double x, double y) {
   return c[0] + c[1] * x + c[2] * y;
 }
 
+// Ground heights that rise by more than the robot's step over a run this long [m] are a step,
+// however the ground triangles spread it (they join the last return below a step to the first
+// above, a few centimetres apart): the cells' step rule compares heights over such runs, and a
+// longer triangle keeps the step its corners span (MapInputs::seam_step).
+inline constexpr double kStepRunLength = 0.15;
+
 struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
@@ -99,9 +105,10 @@ struct MapInputs {
   std::vector<float> ground_height;
   // Per cell: the step [m] the cell stands for between two ground levels, 0 elsewhere: the one a
   // ground triangle joining two planes (a low kerb seen from above, its face unseen) or reaching
-  // ground no plane took in spans over it, and where cells of two planes meet more than 5 cm
-  // apart, at least the planes' difference there. The traversability check blocks the cell for a
-  // robot whose step is smaller.
+  // ground no plane took in spans over it, where cells of two planes meet more than 5 cm apart at
+  // least the planes' difference there, and the spread of a long triangle's corners about their
+  // plane (EdgeLimit::spannedStep). The traversability check blocks the cell for a robot whose
+  // step is smaller.
   std::vector<float> seam_step;
   // Per ground cell: the widest obstacle that could stand between the sensor's samples there
   // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
