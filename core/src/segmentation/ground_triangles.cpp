@@ -400,15 +400,16 @@ double EdgeLimit::spannedStep(const std::vector<std::int32_t>& ground_of, std::s
   if (plane_heights.empty() || ground_of[b] != g || ground_of[c] != g) return 0.0;
   if (!continued.empty() && (continued[a] || continued[b] || continued[c])) return 0.0;
   const Eigen::Vector3f &pa = mapped[a], &pb = mapped[b], &pc = mapped[c];
-  const double longest =
-      std::sqrt(std::max({(pa - pb).head<2>().squaredNorm(), (pb - pc).head<2>().squaredNorm(),
-                          (pa - pc).head<2>().squaredNorm()}));
+  const double longest_squared =
+      std::max({(pa - pb).head<2>().squaredNorm(), (pb - pc).head<2>().squaredNorm(),
+                (pa - pc).head<2>().squaredNorm()});
+  if (longest_squared <= kStepRunLength * kStepRunLength) return 0.0;
   // Longer than two samples' spacing at its nearest corner's range: no beam saw what it bridges
   // (a lost beam makes it that long already).
-  const double nearest = std::min(
-      {double(pa.head<2>().norm()), double(pb.head<2>().norm()), double(pc.head<2>().norm())});
+  const double nearest = std::sqrt(std::min(
+      {pa.head<2>().squaredNorm(), pb.head<2>().squaredNorm(), pc.head<2>().squaredNorm()}));
   const double sampled = kSpacingsPerEdge * expectedGroundSpacing(sensor, nearest, scanner_height);
-  if (longest <= std::max(kStepRunLength, sampled)) return 0.0;
+  if (longest_squared <= sampled * sampled) return 0.0;
   // How far a corner farther from the scanner (the map's origin) lies below a nearer one, about
   // the plane: a drop away from the scanner hides in its own shadow, while a rise towards it is
   // seen (its face's returns) and a rise away from it is seen on its slope.

@@ -339,7 +339,9 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
   auto isStep = [&](std::size_t from, std::size_t to, int dc, int dr) {
     const double rise = inputs.ground_height[to] - inputs.ground_height[from];
     if (std::abs(dc) + std::abs(dr) == 1) return std::abs(rise) > robot.max_step;
-    return std::abs(rise - planeRise(from, dc, dr)) > robot.max_step &&
+    const double from_rise = planeRise(from, dc, dr);
+    if (std::abs(rise - from_rise) <= robot.max_step) return false;
+    return inputs.ground_plane[to] == inputs.ground_plane[from] ||
            std::abs(rise - planeRise(to, dc, dr)) > robot.max_step;
   };
   const int gap_cells = int(std::floor(kStepGapReach / grid.resolution));
