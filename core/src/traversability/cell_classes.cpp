@@ -317,14 +317,16 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
 // step's edge may lie anywhere in it, or just inside the lower cell, whose returns were then the
 // step's face). Beyond the next cell, what either cell's ground plane rises over the distance is no
 // step (a ramp's scan lines leave gaps, and its foot joins the floor over a few cells).
-void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes) {
+void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes,
+               int threads) {
   const MapInputs& inputs = analysis.inputs;
   const MapGrid& grid = inputs.grid;
-  const std::vector<CellState> state = classes.state;  // as it was before any cell is marked
+  const std::vector<CellState>& state = classes.state;  // marks go to `stepped` until the end
+  // 1 where a ground cell is too steep; set from any thread (rows are shared out, and a step
+  // down a column marks a cell of another row).
+  std::vector<std::uint8_t> stepped(grid.cells(), 0);
   auto mark = [&](std::size_t cell) {
-    if (state[cell] != CellState::kGround) return;
-    classes.state[cell] = CellState::kBlocked;
-    classes.reason[cell] = CellReason::kTooSteep;
+    if (state[cell] == CellState::kGround) markFromAnyThread(stepped[cell]);
   };
   if (!inputs.seam_step.empty())
     for (std::size_t cell = 0; cell < grid.cells(); ++cell)
@@ -373,12 +375,20 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
       nearer_distance = d;
     }
   };
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      if (inputs.ground_plane[cell] < 0) continue;
-      compareBack(cell, 1, column, 1, 0);
-      compareBack(cell, std::size_t(grid.width), row, 0, 1);
+  detail::parallelChunks(std::size_t(grid.height), threads,
+                         [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
+                           for (int row = int(row_begin); row < int(row_end); ++row)
+                             for (int column = 0; column < grid.width; ++column) {
+                               const std::size_t cell = grid.index(column, row);
+                               if (inputs.ground_plane[cell] < 0) continue;
+                               compareBack(cell, 1, column, 1, 0);
+                               compareBack(cell, std::size_t(grid.width), row, 0, 1);
+                             }
+                         });
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+    if (stepped[cell]) {
+      classes.state[cell] = CellState::kBlocked;
+      classes.reason[cell] = CellReason::kTooSteep;
     }
 }
 
@@ -456,7 +466,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     classes.blocked_by_points_only[cell] = was_blocked ? 0 : 1;
   }
 
-  markSteps(analysis, robot, classes);
+  markSteps(analysis, robot, classes, threads);
 
   // The robot stands on its own place: the floor under it is ground, seen or not.
   if (own_place) {
