@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
 #include <numbers>
 
@@ -98,77 +99,67 @@ TEST(GroundSeam, AKerbSeenFaceOnIsNotSplitByTheUpperLevelsBand) {
   EXPECT_FALSE(test::connectedInMap(run, {8.5, 0.0, 0.0}, {12.0, 0.0, 0.15}));
 }
 
-TEST(GroundSeam, AStepBetweenTwoScanLinesKeepsTheBoxOffItsEdge) {
-  // The outdoor scene's paving slabs meet at x = 4 m with a 0.13 m step where the third slab rolls
-  // up. Seen at 120 lines through an axis tilted 35 deg and rolled 20 deg, one line met only the
-  // step's face (5 cm up) and the next the upper slab 0.13 m farther on; between them nothing.
-  // The lower side's last cell held the face's returns and looked like floor: the robot's box,
-  // 0.6 m wide, stood 7 cm onto the upper slab (4 false cells; scripts/variant-sweep).
+// The outdoor scene's paving slabs meet at x = 4 m with a step that grows along the joint (the
+// third slab is rolled 2 deg): about 0.05 m down near y = -2 m, 0.05 m up near y = 1 m, 0.13 m up
+// near y = 3.5 m. A view of it and a robot, as a randomised sweep drew them (scripts/variant-sweep
+// draws the same way).
+struct SlabJointView {
+  int lines;
+  std::uint32_t seed;
+  double noise;  // range noise sigma [m]
+  bool mixed_pixels;
+  double tilt_deg, roll_deg;  // the turntable axis tilted about world x, then rolled
+  double robot_width, robot_length, robot_step;
+};
+
+// The simulated view of the joint, segmented and scored for its robot.
+eval::Evaluation slabJoint(const SlabJointView& view) {
   const sim::Scene scene = *sim::builtinScene("outdoor");
   sim::SensorModel sensor;
-  sensor.lines = 120;
-  sensor.seed = 3;
-  sensor.range_noise_sigma = 0.005;
-  sensor.mixed_pixels = true;
+  sensor.lines = view.lines;
+  sensor.seed = view.seed;
+  sensor.range_noise_sigma = view.noise;
+  sensor.mixed_pixels = view.mixed_pixels;
   sim::ScannerPlacement placement = sim::defaultPlacement(scene);
   placement.axis =
-      Eigen::AngleAxisd(35.0 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) * placement.axis;
-  placement.axis_roll_deg = 20.0;
+      Eigen::AngleAxisd(view.tilt_deg * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) *
+      placement.axis;
+  placement.axis_roll_deg = view.roll_deg;
   SegmentationParams params;
-  params.robot.width = 0.6;
+  params.robot.width = view.robot_width;
+  params.robot.length = view.robot_length;
+  params.robot.max_step = view.robot_step;
   const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
-  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-  const eval::Evaluation e = test::evaluateRun(run, params);
+  EXPECT_TRUE(run.result.trusted()) << run.result.reason;
+  return test::evaluateRun(run, params);
+}
+
+TEST(GroundSeam, AStepBetweenTwoScanLinesKeepsTheBoxOffItsEdge) {
+  // The 0.13 m step up seen at 120 lines: one line met only the step's face (5 cm up) and the
+  // next the upper slab 0.13 m farther on; between them nothing. The lower side's last cell held
+  // the face's returns and looked like floor: the robot's box, 0.6 m wide, stood 7 cm onto the
+  // upper slab (4 false cells; scripts/variant-sweep).
+  const eval::Evaluation e = slabJoint({120, 3, 0.005, true, 35.0, 20.0, 0.6, 1.2, 0.1});
   EXPECT_GT(e.map.traversable_cells, 10000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
 TEST(GroundSeam, AStepTheTrianglesSpreadIsStillAStepForTheRobot) {
-  // The same joint near y = 0.85 m, where slab_2 stands 0.04-0.07 m above slab_1 under the
-  // robot's box, seen at 350 lines through an axis tilted 15 deg and rolled 11 deg, with 1.5 cm
-  // range noise, for a robot whose step is 0.05 m. The ground triangles spread the step over two
-  // or three cells, none of which differed from the next by the step: the box stood across it
-  // (3 false cells, found by a randomised sweep of scripts/variant-sweep's kind).
-  const sim::Scene scene = *sim::builtinScene("outdoor");
-  sim::SensorModel sensor;
-  sensor.lines = 350;
-  sensor.seed = 409;
-  sensor.range_noise_sigma = 0.015;
-  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
-  placement.axis =
-      Eigen::AngleAxisd(14.91 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) * placement.axis;
-  placement.axis_roll_deg = 11.27;
-  SegmentationParams params;
-  params.robot.width = 0.739;
-  params.robot.length = 1.35;
-  params.robot.max_step = 0.05;
-  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
-  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-  const eval::Evaluation e = test::evaluateRun(run, params);
+  // Near y = 0.85 m, where slab_2 stands 0.04-0.07 m above slab_1 under the robot's box, with
+  // 1.5 cm range noise, for a robot whose step is 0.05 m. The ground triangles spread the step
+  // over two or three cells, none of which differed from the next by the step: the box stood
+  // across it (3 false cells).
+  const eval::Evaluation e = slabJoint({350, 409, 0.015, false, 14.91, 11.27, 0.739, 1.35, 0.05});
   EXPECT_GT(e.map.traversable_cells, 10000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
 TEST(GroundSeam, ADropInItsOwnShadowIsAStepForTheRobot) {
-  // The same joint near y = -2 m, where slab_2 falls 0.05-0.07 m below slab_1, away from the
-  // scanner: the ground behind the edge lies in its shadow, and the triangles bridged it from the
-  // edge to the first return beyond, 0.3-0.7 m, a gentle slope on the map. For a robot whose step
-  // is 0.05 m the box stood across the drop (81 false cells, found by a randomised sweep).
-  const sim::Scene scene = *sim::builtinScene("outdoor");
-  sim::SensorModel sensor;
-  sensor.lines = 423;
-  sensor.seed = 821;
-  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
-  placement.axis =
-      Eigen::AngleAxisd(-13.82 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) * placement.axis;
-  placement.axis_roll_deg = 7.63;
-  SegmentationParams params;
-  params.robot.width = 0.826;
-  params.robot.length = 1.035;
-  params.robot.max_step = 0.05;
-  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
-  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-  const eval::Evaluation e = test::evaluateRun(run, params);
+  // Near y = -2 m, where slab_2 falls 0.05-0.07 m below slab_1, away from the scanner: the ground
+  // behind the edge lies in its shadow, and the triangles bridged it from the edge to the first
+  // return beyond, 0.3-0.7 m, a gentle slope on the map. For a robot whose step is 0.05 m the box
+  // stood across the drop (81 false cells).
+  const eval::Evaluation e = slabJoint({423, 821, 0.0, false, -13.82, 7.63, 0.826, 1.035, 0.05});
   EXPECT_GT(e.map.traversable_cells, 10000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }

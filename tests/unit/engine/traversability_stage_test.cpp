@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -56,6 +57,16 @@ Cell cellAt(const TraversabilityMap& map, double x, double y) {
 
 std::string describe(const Cell& cell) {
   return std::string(labelName(cell.label)) + " (" + std::string(reasonName(cell.reason)) + ")";
+}
+
+// Whether the cells on the row y = 0.025 at each of `xs` are (or are not) too steep.
+void expectTooSteep(const TraversabilityMap& map, std::initializer_list<double> xs,
+                    bool too_steep = true) {
+  for (double x : xs) {
+    const Cell cell = cellAt(map, x, 0.025);
+    EXPECT_EQ(reasonName(cell.reason) == "too steep", too_steep)
+        << "at x = " << x << ": " << describe(cell);
+  }
 }
 
 // A corridor along x, from x = 1 to 5, between walls `width` apart centred on y = 0, in an open
@@ -355,11 +366,7 @@ HandBuiltMap levelsAcrossAGap(double rise) {
 TEST(TraversabilityStage, AHeightJumpAcrossAnUnobservedGapIsTooSteepOnBothSides) {
   const RobotParams robot = testRobot();
   const TraversabilityMap map = mapOf(levelsAcrossAGap(robot.max_step + 0.03), robot);
-  for (double x : {1.975, 2.125}) {
-    const Cell edge = cellAt(map, x, 0.025);
-    EXPECT_EQ(edge.label, CellLabel::kImpassable) << "at x = " << x << ": " << describe(edge);
-    EXPECT_EQ(reasonName(edge.reason), "too steep") << "at x = " << x;
-  }
+  expectTooSteep(map, {1.975, 2.125});
   // One cell farther in, the box no longer covers the edge cell's centre: green again.
   const Cell inside = cellAt(map, 1.475, 0.025);
   EXPECT_EQ(inside.label, CellLabel::kTraversable) << describe(inside);
@@ -367,11 +374,7 @@ TEST(TraversabilityStage, AHeightJumpAcrossAnUnobservedGapIsTooSteepOnBothSides)
 
 TEST(TraversabilityStage, ARiseWithinTheStepAcrossAnUnobservedGapIsNoStep) {
   const RobotParams robot = testRobot();
-  const TraversabilityMap map = mapOf(levelsAcrossAGap(robot.max_step - 0.03), robot);
-  for (double x : {1.975, 2.125}) {
-    const Cell edge = cellAt(map, x, 0.025);
-    EXPECT_NE(reasonName(edge.reason), "too steep") << "at x = " << x << ": " << describe(edge);
-  }
+  expectTooSteep(mapOf(levelsAcrossAGap(robot.max_step - 0.03), robot), {1.975, 2.125}, false);
 }
 
 // A ramp steep enough (35 deg) to rise by more than the step across the strip: its slope explains
@@ -384,11 +387,7 @@ TEST(TraversabilityStage, ARampsRiseAcrossAnUnobservedGapIsNoStep) {
   built.ramp(-2.75, -1.75, 2.0, 1.75, 0, slope)
       .ramp(2.1, -1.75, 4.75, 1.75, 0, slope)
       .robotAt(-1.0, 0.0, 0.0);
-  const TraversabilityMap map = mapOf(built, robot);
-  for (double x : {1.975, 2.125}) {
-    const Cell edge = cellAt(map, x, 0.025);
-    EXPECT_NE(reasonName(edge.reason), "too steep") << "at x = " << x << ": " << describe(edge);
-  }
+  expectTooSteep(mapOf(built, robot), {1.975, 2.125}, false);
 }
 
 // One ground level rising by `rise` over the two cell columns x = 2.0 .. 2.1, in even steps of a
@@ -409,21 +408,15 @@ HandBuiltMap spreadStep(double rise) {
 TEST(TraversabilityStage, AStepSpreadOverAFewCellsIsStillAStep) {
   const RobotParams robot = testRobot();
   const TraversabilityMap map = mapOf(spreadStep(robot.max_step + 0.02), robot);
-  for (double x : {1.975, 2.125}) {
-    const Cell edge = cellAt(map, x, 0.025);
-    EXPECT_EQ(reasonName(edge.reason), "too steep") << "at x = " << x << ": " << describe(edge);
-  }
+  expectTooSteep(map, {1.975, 2.125});
   const Cell inside = cellAt(map, 1.475, 0.025);
   EXPECT_EQ(inside.label, CellLabel::kTraversable) << describe(inside);
 }
 
 TEST(TraversabilityStage, ARiseWithinTheStepSpreadOverAFewCellsIsNoStep) {
   const RobotParams robot = testRobot();
-  const TraversabilityMap map = mapOf(spreadStep(robot.max_step - 0.02), robot);
-  for (double x : {1.975, 2.025, 2.075, 2.125}) {
-    const Cell cell = cellAt(map, x, 0.025);
-    EXPECT_NE(reasonName(cell.reason), "too steep") << "at x = " << x << ": " << describe(cell);
-  }
+  expectTooSteep(mapOf(spreadStep(robot.max_step - 0.02), robot), {1.975, 2.025, 2.075, 2.125},
+                 false);
 }
 
 // A sharp step stands for itself: the floor's cells farther from it than the next one keep their
@@ -435,12 +428,8 @@ TEST(TraversabilityStage, ASharpStepMarksOnlyTheCellsBesideIt) {
       .floor(2.0, -1.75, 4.75, 1.75, 0, robot.max_step + 0.05)
       .robotAt(-1.0, 0.0, 0.0);
   const TraversabilityMap map = mapOf(built, robot);
-  for (double x : {1.975, 2.025})
-    EXPECT_EQ(reasonName(cellAt(map, x, 0.025).reason), "too steep") << "at x = " << x;
-  for (double x : {1.875, 1.925, 2.075, 2.125}) {
-    const Cell cell = cellAt(map, x, 0.025);
-    EXPECT_NE(reasonName(cell.reason), "too steep") << "at x = " << x << ": " << describe(cell);
-  }
+  expectTooSteep(map, {1.975, 2.025});
+  expectTooSteep(map, {1.875, 1.925, 2.075, 2.125}, false);
 }
 
 // Ground up to the grid's edge (a multi-beam map cut at its vouched range has no unobserved rim):
