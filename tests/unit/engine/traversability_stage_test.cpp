@@ -342,40 +342,51 @@ TEST(TraversabilityStage, AHeightJumpWithinOneGroundLevelIsTooSteepOnBothSides) 
       .floor(2.0, -1.75, 4.75, 1.75, 0, robot.max_step + 0.05)
       .robotAt(-1.0, 0.0, 0.0);
   const TraversabilityMap map = mapOf(built, robot);
-  for (double x : {1.975, 2.025}) {
-    const Cell edge = cellAt(map, x, 0.025);
-    EXPECT_EQ(edge.label, CellLabel::kImpassable) << "at x = " << x << ": " << describe(edge);
-    EXPECT_EQ(reasonName(edge.reason), "too steep") << "at x = " << x;
-  }
+  expectTooSteep(map, {1.975, 2.025});
+  // A sharp step stands for itself: the cells farther from it than the next one keep their label
+  // (a stair's first riser does not push the robot back by the step rule's run).
+  expectTooSteep(map, {1.875, 1.925, 2.075, 2.125}, false);
 }
 
-// One ground level whose two parts, `rise` apart in height, are seen either side of an unobserved
-// strip two cells wide along x = 2.0 .. 2.1 (a step's edge between two scan lines): the robot
-// stands at (-1, 0) on the lower part.
-HandBuiltMap levelsAcrossAGap(double rise) {
+// One ground level rising by `rise` from the floor (x < 2.0) to its upper part (x >= 2.1) over
+// the strip of two cell columns between, where the robot does not stand (it stands at (-1, 0)).
+enum class Strip {
+  kUnobserved,  // no return in it: a step's edge between two scan lines
+  kSpread,      // in even thirds of the rise: a step the ground triangles spread over the strip
+};
+HandBuiltMap riseOverTheStrip(double rise, Strip strip) {
   HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
   built.floor(-2.75, -1.75, 2.0, 1.75)
       .floor(2.1, -1.75, 4.75, 1.75, 0, rise)
       .robotAt(-1.0, 0.0, 0.0);
+  if (strip == Strip::kSpread)
+    built.floor(2.0, -1.75, 2.05, 1.75, 0, rise / 3).floor(2.05, -1.75, 2.1, 1.75, 0, 2 * rise / 3);
   return built;
 }
 
-// The step lies somewhere in the strip, perhaps right at the edge of the last lower cell, whose
-// returns were then the step's face (the outdoor scene's slabs at 120 lines: the box stood 7 cm
-// over a 0.13 m step): the cells either side of the strip are too steep, as if they touched.
-TEST(TraversabilityStage, AHeightJumpAcrossAnUnobservedGapIsTooSteepOnBothSides) {
+class StepOverAStrip : public ::testing::TestWithParam<Strip> {};
+
+// The step lies somewhere in an unobserved strip, perhaps right at the edge of the last lower
+// cell, whose returns were then the step's face (the outdoor scene's slabs at 120 lines: the box
+// stood 7 cm over a 0.13 m step); over a spread one no two cells next to each other differ by the
+// step. Either way the cells either side of the strip are too steep, as if they touched.
+TEST_P(StepOverAStrip, AboveTheRobotsStepTheStripsEdgesAreTooSteep) {
   const RobotParams robot = testRobot();
-  const TraversabilityMap map = mapOf(levelsAcrossAGap(robot.max_step + 0.03), robot);
+  const TraversabilityMap map = mapOf(riseOverTheStrip(robot.max_step + 0.02, GetParam()), robot);
   expectTooSteep(map, {1.975, 2.125});
   // One cell farther in, the box no longer covers the edge cell's centre: green again.
   const Cell inside = cellAt(map, 1.475, 0.025);
   EXPECT_EQ(inside.label, CellLabel::kTraversable) << describe(inside);
 }
 
-TEST(TraversabilityStage, ARiseWithinTheStepAcrossAnUnobservedGapIsNoStep) {
+TEST_P(StepOverAStrip, WithinTheRobotsStepNothingIsTooSteep) {
   const RobotParams robot = testRobot();
-  expectTooSteep(mapOf(levelsAcrossAGap(robot.max_step - 0.03), robot), {1.975, 2.125}, false);
+  expectTooSteep(mapOf(riseOverTheStrip(robot.max_step - 0.02, GetParam()), robot),
+                 {1.975, 2.025, 2.075, 2.125}, false);
 }
+
+INSTANTIATE_TEST_SUITE_P(UnobservedOrSpread, StepOverAStrip,
+                         ::testing::Values(Strip::kUnobserved, Strip::kSpread));
 
 // A ramp steep enough (35 deg) to rise by more than the step across the strip: its slope explains
 // the rise, which is no step.
@@ -388,48 +399,6 @@ TEST(TraversabilityStage, ARampsRiseAcrossAnUnobservedGapIsNoStep) {
       .ramp(2.1, -1.75, 4.75, 1.75, 0, slope)
       .robotAt(-1.0, 0.0, 0.0);
   expectTooSteep(mapOf(built, robot), {1.975, 2.125}, false);
-}
-
-// One ground level rising by `rise` over the two cell columns x = 2.0 .. 2.1, in even steps of a
-// third of it from the floor (x < 2.0) to the upper part (x >= 2.1): a step the ground triangles
-// spread over the last return below it and the first above.
-HandBuiltMap spreadStep(double rise) {
-  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
-  built.floor(-2.75, -1.75, 2.0, 1.75)
-      .floor(2.0, -1.75, 2.05, 1.75, 0, rise / 3)
-      .floor(2.05, -1.75, 2.1, 1.75, 0, 2 * rise / 3)
-      .floor(2.1, -1.75, 4.75, 1.75, 0, rise)
-      .robotAt(-1.0, 0.0, 0.0);
-  return built;
-}
-
-// No two cells next to each other differ by the step, but over the three cells from the floor's
-// last to the upper part's first the ground rises by more: the ends of that run are too steep.
-TEST(TraversabilityStage, AStepSpreadOverAFewCellsIsStillAStep) {
-  const RobotParams robot = testRobot();
-  const TraversabilityMap map = mapOf(spreadStep(robot.max_step + 0.02), robot);
-  expectTooSteep(map, {1.975, 2.125});
-  const Cell inside = cellAt(map, 1.475, 0.025);
-  EXPECT_EQ(inside.label, CellLabel::kTraversable) << describe(inside);
-}
-
-TEST(TraversabilityStage, ARiseWithinTheStepSpreadOverAFewCellsIsNoStep) {
-  const RobotParams robot = testRobot();
-  expectTooSteep(mapOf(spreadStep(robot.max_step - 0.02), robot), {1.975, 2.025, 2.075, 2.125},
-                 false);
-}
-
-// A sharp step stands for itself: the floor's cells farther from it than the next one keep their
-// label (a stair's first riser does not push the robot back by the run).
-TEST(TraversabilityStage, ASharpStepMarksOnlyTheCellsBesideIt) {
-  const RobotParams robot = testRobot();
-  HandBuiltMap built(-3.0, -2.0, 5.0, 2.0);
-  built.floor(-2.75, -1.75, 2.0, 1.75)
-      .floor(2.0, -1.75, 4.75, 1.75, 0, robot.max_step + 0.05)
-      .robotAt(-1.0, 0.0, 0.0);
-  const TraversabilityMap map = mapOf(built, robot);
-  expectTooSteep(map, {1.975, 2.025});
-  expectTooSteep(map, {1.875, 1.925, 2.075, 2.125}, false);
 }
 
 // Ground up to the grid's edge (a multi-beam map cut at its vouched range has no unobserved rim):
