@@ -106,9 +106,9 @@ struct MapInputs {
   // Per cell: the step [m] the cell stands for between two ground levels, 0 elsewhere: the one a
   // ground triangle joining two planes (a low kerb seen from above, its face unseen) or reaching
   // ground no plane took in spans over it, where cells of two planes meet more than 5 cm apart at
-  // least the planes' difference there, and the spread of a long triangle's corners about their
-  // plane (EdgeLimit::spannedStep). The traversability check blocks the cell for a robot whose
-  // step is smaller.
+  // least the planes' difference there, and the drop a long triangle of one plane bridges away
+  // from the scanner (EdgeLimit::spannedStep). The traversability check blocks the cell for a
+  // robot whose step is smaller.
   std::vector<float> seam_step;
   // Per ground cell: the widest obstacle that could stand between the sensor's samples there
   // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
