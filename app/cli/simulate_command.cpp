@@ -1,6 +1,8 @@
 #include <chrono>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 
 #include "arguments.h"
@@ -36,7 +38,28 @@ Eigen::Vector3d parseAxis(const std::string& text) {
 const std::set<std::string> kSceneOptions = {"door-width", "door-height", "ramp-slope",
                                              "stair-rise", "stair-tread"};
 
+// The built-in scenes each option shapes (the doorways scene's doors have their own widths,
+// 0.7-1.3 m): given for another scene, an option would be ignored without a word.
+const std::map<std::string, std::set<std::string>> kScenesOfOption = {
+    {"door-width", {"garage"}},
+    {"door-height", {"garage"}},
+    {"ramp-slope", {"hallway"}},
+    {"stair-rise", {"hallway", "stairwell"}},
+    {"stair-tread", {"hallway", "stairwell"}}};
+
+void refuseOptionsTheSceneIgnores(const Arguments& arguments, const std::string& name_or_file) {
+  for (const auto& [option, scenes] : kScenesOfOption) {
+    if (!arguments.option(option) || scenes.contains(name_or_file)) continue;
+    std::string names;
+    for (const auto& scene : scenes)
+      names += (names.empty() ? "" : ", ") + scene;
+    throw UsageError("--" + option + " shapes only the built-in " + names + " scene" +
+                     (scenes.size() > 1 ? "s" : "") + ", not '" + name_or_file + "'");
+  }
+}
+
 sim::Scene sceneFromArguments(const Arguments& arguments, const std::string& name_or_file) {
+  refuseOptionsTheSceneIgnores(arguments, name_or_file);
   sim::SceneParameters parameters;
   parameters.door_width = arguments.number("door-width", parameters.door_width, 0.1, 10.0);
   parameters.door_height = arguments.number("door-height", parameters.door_height, 0.1, 10.0);

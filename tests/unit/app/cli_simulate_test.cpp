@@ -55,6 +55,13 @@ TEST(CliSimulate, BadScenesAndOptionsFailClearly) {
   EXPECT_EQ(runCli("simulate garage --lines 0" + out).exit_code, 2);
   EXPECT_EQ(runCli("simulate garage --axis 0,0,0" + out).exit_code, 2);
   EXPECT_EQ(runCli("simulate garage").exit_code, 2);
+  // A scene option the scene does not use would be ignored without a word.
+  const auto ignored = runCli("simulate doorways --door-width 1.1" + out);
+  EXPECT_EQ(ignored.exit_code, 2);
+  EXPECT_NE(ignored.err.find("--door-width shapes only the built-in garage scene"),
+            std::string::npos)
+      << ignored.err;
+  EXPECT_EQ(runCli("simulate garage --ramp-slope 20" + out).exit_code, 2);
   test::writeBytes(directory / "broken.json", "{\"primitives\": [{\"class\": \"lava\"}]}");
   const auto broken = runCli("simulate " + shellQuote((directory / "broken.json").string()) + out);
   EXPECT_EQ(broken.exit_code, 1);
