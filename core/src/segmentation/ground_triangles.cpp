@@ -399,34 +399,31 @@ double EdgeLimit::spannedStep(const std::vector<std::int32_t>& ground_of, std::s
   const std::int32_t g = ground_of[a];
   if (plane_heights.empty() || ground_of[b] != g || ground_of[c] != g) return 0.0;
   if (!continued.empty() && (continued[a] || continued[b] || continued[c])) return 0.0;
-  const Eigen::Vector3f &pa = mapped[a], &pb = mapped[b], &pc = mapped[c];
-  const double longest_squared =
-      std::max({(pa - pb).head<2>().squaredNorm(), (pb - pc).head<2>().squaredNorm(),
-                (pa - pc).head<2>().squaredNorm()});
+  const std::array<const Eigen::Vector3f*, 3> corners = {&mapped[a], &mapped[b], &mapped[c]};
+  const double longest_squared = std::max({(*corners[0] - *corners[1]).head<2>().squaredNorm(),
+                                           (*corners[1] - *corners[2]).head<2>().squaredNorm(),
+                                           (*corners[0] - *corners[2]).head<2>().squaredNorm()});
   if (longest_squared <= kStepRunLength * kStepRunLength) return 0.0;
+  std::array<double, 3> range_squared;  // from the scanner (the map's origin), horizontally
+  for (std::size_t i = 0; i < 3; ++i)
+    range_squared[i] = corners[i]->head<2>().squaredNorm();
   // Longer than two samples' spacing at its nearest corner's range: no beam saw what it bridges
   // (a lost beam makes it that long already).
-  const double nearest = std::sqrt(std::min(
-      {pa.head<2>().squaredNorm(), pb.head<2>().squaredNorm(), pc.head<2>().squaredNorm()}));
+  const double nearest = std::sqrt(*std::min_element(range_squared.begin(), range_squared.end()));
   const double sampled = kSpacingsPerEdge * expectedGroundSpacing(sensor, nearest, scanner_height);
   if (longest_squared <= sampled * sampled) return 0.0;
-  // How far a corner farther from the scanner (the map's origin) lies below a nearer one, about
-  // the plane: a drop away from the scanner hides in its own shadow, while a rise towards it is
-  // seen (its face's returns) and a rise away from it is seen on its slope.
+  // How far a corner farther from the scanner lies below a nearer one, about the plane: a drop
+  // away from the scanner hides in its own shadow, while a rise towards it is seen (its face's
+  // returns) and a rise away from it is seen on its slope.
   const Eigen::Vector3d& plane = plane_heights[std::size_t(g)];
-  struct Corner {
-    double range, off_plane;
-  };
-  std::array<Corner, 3> corners;
-  const std::array<const Eigen::Vector3f*, 3> points = {&pa, &pb, &pc};
-  for (std::size_t i = 0; i < 3; ++i) {
-    const Eigen::Vector3f& p = *points[i];
-    corners[i] = {double(p.head<2>().norm()), double(p.z()) - heightOnPlane(plane, p.x(), p.y())};
-  }
+  std::array<double, 3> off_plane;
+  for (std::size_t i = 0; i < 3; ++i)
+    off_plane[i] = double(corners[i]->z()) - heightOnPlane(plane, corners[i]->x(), corners[i]->y());
   double drop = 0.0;
-  for (const Corner& near : corners)
-    for (const Corner& far : corners)
-      if (far.range > near.range) drop = std::max(drop, near.off_plane - far.off_plane);
+  for (std::size_t near = 0; near < 3; ++near)
+    for (std::size_t far = 0; far < 3; ++far)
+      if (range_squared[far] > range_squared[near])
+        drop = std::max(drop, off_plane[near] - off_plane[far]);
   return std::isfinite(drop) ? drop : 0.0;
 }
 
