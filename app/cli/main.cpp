@@ -25,7 +25,7 @@ constexpr const char* kUsage =
     "                                            describe a scan file\n"
     "  simulate SCENE -o FILE.pcd [--lines N | --speed DEG_S] [--axis up|down|forward|side|X,Y,Z]\n"
     "           [--tilt DEG] [--axis-roll DEG] [--position X,Y,Z] [--seed S] [--noise M]\n"
-    "           [--max-range M] [--mixed-pixels] [--door-width W] [--door-height H]\n"
+    "           [--max-range M] [--mixed-pixels] [--dropout P] [--door-width W] [--door-height H]\n"
     "           [--ramp-slope DEG] [--stair-rise M] [--stair-tread M] [--encoding E]\n"
     "                                            simulated RoSi scan + FILE.truth.json\n"
     "  scene --list | scene NAME [-o FILE.json]  list or export the built-in scenes\n"

@@ -86,7 +86,7 @@ int runSimulate(const std::vector<std::string>& words) {
   const Arguments arguments(
       words, {"mixed-pixels"},
       withSceneOptions({"lines", "speed", "axis", "axis-roll", "tilt", "position", "seed", "noise",
-                        "max-range", "o", "output", "encoding"}));
+                        "dropout", "max-range", "o", "output", "encoding"}));
   arguments.expectPositional(1, "one scene: clearway-cli simulate SCENE -o FILE.pcd");
   const auto output = arguments.option("o") ? arguments.option("o") : arguments.option("output");
   if (!output) throw UsageError("-o FILE.pcd is required");
@@ -100,6 +100,7 @@ int runSimulate(const std::vector<std::string>& words) {
   sensor.range_noise_sigma = arguments.number("noise", sensor.range_noise_sigma, 0.0, 1.0);
   sensor.max_range = arguments.number("max-range", sensor.max_range, 0.5, 1000.0);
   sensor.mixed_pixels = arguments.flag("mixed-pixels");
+  sensor.dropout = arguments.number("dropout", sensor.dropout, 0.0, 0.99);
 
   sim::ScannerPlacement placement = sim::defaultPlacement(scene);
   if (const auto axis = arguments.option("axis")) placement.axis = parseAxis(*axis);

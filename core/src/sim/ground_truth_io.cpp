@@ -46,6 +46,7 @@ void saveGroundTruth(const GroundTruth& truth, const std::filesystem::path& file
                         {"range_noise_sigma", truth.sensor.range_noise_sigma},
                         {"max_range", truth.sensor.max_range},
                         {"mixed_pixels", truth.sensor.mixed_pixels},
+                        {"dropout", truth.sensor.dropout},
                         {"seed", truth.sensor.seed}};
   const Eigen::Matrix4d pose = truth.placement.worldFromScanner().matrix();
   std::vector<double> row_major;
@@ -105,6 +106,7 @@ GroundTruth loadGroundTruth(const std::filesystem::path& file) {
     truth.sensor.range_noise_sigma = sensor.at("range_noise_sigma");
     truth.sensor.max_range = sensor.at("max_range");
     truth.sensor.mixed_pixels = sensor.at("mixed_pixels");
+    truth.sensor.dropout = sensor.value("dropout", 0.0);  // files from before it existed: none
     truth.sensor.seed = sensor.at("seed");
     const json& scanner = document.at("scanner");
     truth.placement.position = vectorFrom(scanner.at("position"));

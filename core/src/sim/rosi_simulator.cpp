@@ -1,5 +1,6 @@
 #include "clearway/sim/rosi_simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -15,6 +16,10 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 // A depth edge: neighbouring beams this much further apart than the beam itself.
 constexpr double kMixedPixelJump = 0.3;
+
+// Mixed into the seed of the lost returns' generator, so that it does not draw what the range
+// noise's does.
+constexpr std::uint32_t kLossSeed = 0x9e3779b9U;
 
 }  // namespace
 
@@ -73,6 +78,9 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
   const Eigen::Vector3d origin = world_from_scanner.translation();
   std::mt19937 random(sensor.seed);
   std::normal_distribution<double> noise(0.0, sensor.range_noise_sigma);
+  // The lost returns' own generator: with no dropout, nothing is drawn from it.
+  std::mt19937 losses(sensor.seed ^ kLossSeed);
+  std::bernoulli_distribution lost(std::clamp(sensor.dropout, 0.0, 1.0));
   const auto nan = std::numeric_limits<float>::quiet_NaN();
 
   SimulatedScan result;
@@ -93,6 +101,13 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
     return caster.cast(origin, rotation * local, sensor.max_range);
   };
 
+  const auto pushNoReturn = [&] {
+    scan.points.push_back({nan, nan, nan});
+    scan.status.push_back(PointStatus::kNoReturn);
+    scan.intensity.push_back(0.0F);
+    truth.classes.push_back(PointClass::kNone);
+    truth.surfaces.push_back(-1);
+  };
   for (int line = 0; line < sensor.lines; ++line) {
     const double beta = 2.0 * std::numbers::pi * line / sensor.lines;
     scan.lines.push_back({scan.size(), std::size_t(sensor.points_per_line), beta});
@@ -102,11 +117,7 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
       scan.alpha.push_back(float(alpha));
       const bool glass = hit && scene.primitives[std::size_t(hit->primitive)].transparent;
       if (!hit || glass) {
-        scan.points.push_back({nan, nan, nan});
-        scan.status.push_back(PointStatus::kNoReturn);
-        scan.intensity.push_back(0.0F);
-        truth.classes.push_back(PointClass::kNone);
-        truth.surfaces.push_back(-1);
+        pushNoReturn();
         continue;
       }
       double range = hit->distance;
@@ -119,6 +130,11 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
             range = (range + neighbour->distance) / 2.0;
       }
       range += noise(random);
+      // Drawn after the hit's noise, lost or not: the rest of the scan does not depend on losses.
+      if (sensor.dropout > 0.0 && lost(losses)) {
+        pushNoReturn();
+        continue;
+      }
       const Primitive& primitive = scene.primitives[std::size_t(hit->primitive)];
       const Eigen::Vector3d direction(std::cos(beta) * std::cos(alpha),
                                       std::sin(beta) * std::cos(alpha), std::sin(alpha));

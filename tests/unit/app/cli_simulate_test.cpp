@@ -35,6 +35,27 @@ TEST(CliSimulate, WritesAnOrganisedRosiScanAndItsTruth) {
   EXPECT_EQ(truth.at("reachable").at("lmf_arm_out").at("pairs").size(), 1u);
 }
 
+// --dropout loses that share of the returns, and the truth file says so (eval reads the same
+// scan the console would).
+TEST(CliSimulate, DropoutLosesReturnsAndTheTruthSaysSo) {
+  test::TemporaryDirectory directory;
+  auto returns = [&](const std::string& options) {
+    const auto scan = (directory / "g.pcd").string();
+    const auto result = runCli("simulate garage --lines 80 " + options + " -o " + shellQuote(scan));
+    EXPECT_EQ(result.exit_code, 0) << result.err;
+    const auto info = nlohmann::json::parse(runCli("info --json " + shellQuote(scan)).out);
+    return info.at("valid_points").get<double>();
+  };
+  const double whole = returns("");
+  const double lossy = returns("--dropout 0.25");
+  EXPECT_NEAR(lossy / whole, 0.75, 0.02);
+  const auto truth = nlohmann::json::parse(test::readBytes(directory / "g.truth.json"));
+  EXPECT_DOUBLE_EQ(truth.at("sensor").at("dropout").get<double>(), 0.25);
+  const auto out = " -o " + shellQuote((directory / "x.pcd").string());
+  EXPECT_EQ(runCli("simulate garage --dropout 1" + out).exit_code, 2);
+  EXPECT_EQ(runCli("simulate garage --dropout -0.1" + out).exit_code, 2);
+}
+
 TEST(CliSimulate, SpeedSetsTheLineCountAndScenesLoadFromFiles) {
   test::TemporaryDirectory directory;
   ASSERT_EQ(runCli("scene stairwell -o " + shellQuote((directory / "s.json").string())).exit_code,

@@ -24,6 +24,9 @@ struct SensorModel {
   double range_noise_sigma = 0.01;  // [m]
   double max_range = 30.0;          // beyond it: no return [m]
   bool mixed_pixels = false;        // average ranges across depth edges, as real beams do
+  // Share of the returns lost at random, as dark or wet surfaces, puddles and dust lose them: no
+  // return (drawn from a generator of its own, so the rest of the scan is the same).
+  double dropout = 0.0;
   std::uint32_t seed = 1;
 
   static constexpr double kLineRateHz = 37.5;
