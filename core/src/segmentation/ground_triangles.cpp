@@ -482,7 +482,8 @@ void LinePairing::partners(const ScanLine& from, const ScanLine& to,
 
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const Scan& scan, const LinePairing& pairing, const std::vector<std::int32_t>& ground_of,
-    const EdgeLimit& limit, int threads, SweepPartners* sweep_partners) {
+    const EdgeLimit& limit, int threads, SweepPartners* sweep_partners,
+    std::vector<BridgedTriangle>* bridged) {
   std::vector<std::array<std::uint32_t, 3>> triangles;
   auto squaredDistance = [&](std::size_t a, std::size_t b) {
     const Point3f& p = scan.points[a];
@@ -502,17 +503,65 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     if (!rings) return limit.maxEdgeSquared(a);
     return std::max({limit.maxEdgeSquared(a), limit.maxEdgeSquared(b), limit.maxEdgeSquared(c)});
   };
-  auto add = [&](std::vector<std::array<std::uint32_t, 3>>& out, std::size_t a, std::size_t b,
-                 std::size_t c) {
+  // Always inlined: called from two loops, the compiler kept it out of line, and every quad of a
+  // line without lost returns paid two calls (groundTriangles +13 % instructions on the garage).
+  auto add = [&](std::vector<std::array<std::uint32_t, 3>> & out, std::size_t a, std::size_t b,
+                 std::size_t c) __attribute__((always_inline)) {
     const std::int32_t g = ground_of[a];
-    if (g < 0 || ground_of[b] < 0 || ground_of[c] < 0) return;
+    if (g < 0 || ground_of[b] < 0 || ground_of[c] < 0) return false;
     // Ground of two planes joins only where the two meet with no more than the robot's step.
-    if (limit.joinedStep(ground_of, a, b, c) > limit.largest_seam_step) return;
+    if (limit.joinedStep(ground_of, a, b, c) > limit.largest_seam_step) return false;
     // The limit is never below the fixed one: only a longer edge needs the range's.
     const double longest =
         std::max({squaredDistance(a, b), squaredDistance(b, c), squaredDistance(a, c)});
-    if (longest > fixed_edge_squared && longest > edgeLimitSquared(a, b, c)) return;
+    if (longest > fixed_edge_squared && longest > edgeLimitSquared(a, b, c)) return false;
     out.push_back({std::uint32_t(a), std::uint32_t(b), std::uint32_t(c)});
+    return true;
+  };
+  // A lost return stands in the triangles as the nearer of the two returns around it on its line
+  // (its stand-in), where at most kLostReturnsBridged were lost in a row; `lost`: how many. A
+  // triangle with two corners on one stand-in is no triangle; its neighbours cover the gap. Not a
+  // self-hit: the robot's own body hid the ground there.
+  struct Corner {
+    std::size_t point;
+    std::size_t lost;
+  };
+  auto lostReturn = [&](std::size_t i) {
+    const PointStatus status = scan.status[i];
+    return status == PointStatus::kNoReturn || status == PointStatus::kMaxRange;
+  };
+  // Whether a line holds a lost return at all: most lines of most scans do not, and their pairs
+  // are triangulated without stand-ins (one pass over the statuses, not four looks per quad).
+  auto anyLost = [&](const ScanLine& line) {
+    bool lost = false;
+    for (std::size_t i = line.first; i < line.first + line.count; ++i)
+      lost |= lostReturn(i);
+    return lost;
+  };
+  auto standIn = [&](const ScanLine& line, std::size_t i) -> Corner {
+    if (!lostReturn(i)) return {i, 0};
+    std::size_t first = i, last = i;  // the run of lost returns around i
+    while (first > line.first && lostReturn(first - 1) && i - first < kLostReturnsBridged)
+      --first;
+    while (last + 1 < line.first + line.count && lostReturn(last + 1) &&
+           last - i < kLostReturnsBridged)
+      ++last;
+    if (first == line.first || last + 1 == line.first + line.count) return {i, 0};
+    const std::size_t before = first - 1, after = last + 1;
+    if (!scan.isValid(before) || !scan.isValid(after) || last - first + 1 > kLostReturnsBridged)
+      return {i, 0};
+    return {i - before <= after - i ? before : after, last - first + 1};
+  };
+  // Per part, as `parts` below.
+  std::vector<std::vector<BridgedTriangle>> bridged_parts;
+  // Out of line, so that `add` stays inlined in the loop over lines that lost nothing.
+  auto addCorners = [&](std::size_t chunk, std::vector<std::array<std::uint32_t, 3>> & out,
+                        const Corner& a, const Corner& b, const Corner& c)
+      __attribute__((noinline)) {
+    if (a.point == b.point || b.point == c.point || a.point == c.point) return;
+    if (!add(out, a.point, b.point, c.point)) return;
+    const std::size_t lost = std::max({a.lost, b.lost, c.lost});
+    if (lost > 0 && bridged) bridged_parts[chunk].push_back({out.back(), std::uint8_t(lost + 1)});
   };
   const std::size_t pairs = pairing.pairs();
   // The ground is uneven along the turn (a wall close by on one side, open floor on the other):
@@ -520,6 +569,7 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   constexpr std::size_t kPartsPerThread = 4;
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(
       detail::chunkCount(pairs, threads, kPartsPerThread));
+  if (bridged) bridged_parts.resize(parts.size());
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
   const bool across_lines = sweep_partners && !rings;
   if (across_lines)
@@ -540,11 +590,20 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
           const ScanLine& b = pairing.after(l);
           if (a.count == 0 || b.count == 0) continue;
           pairing.partners(a, b, partners);
-          for (std::size_t k = 0; k + 1 < a.count; ++k) {
-            const std::size_t a0 = a.first + k, a1 = a0 + 1;
-            const std::size_t b0 = partners[k], b1 = partners[k + 1];
-            add(parts[chunk], a0, a1, b0);
-            if (b1 != b0) add(parts[chunk], a1, b1, b0);
+          if (anyLost(a) || anyLost(b)) {
+            for (std::size_t k = 0; k + 1 < a.count; ++k) {
+              const Corner a0 = standIn(a, a.first + k), a1 = standIn(a, a.first + k + 1);
+              const Corner b0 = standIn(b, partners[k]), b1 = standIn(b, partners[k + 1]);
+              addCorners(chunk, parts[chunk], a0, a1, b0);
+              addCorners(chunk, parts[chunk], a1, b1, b0);
+            }
+          } else {
+            for (std::size_t k = 0; k + 1 < a.count; ++k) {
+              const std::size_t a0 = a.first + k, a1 = a0 + 1;
+              const std::size_t b0 = partners[k], b1 = partners[k + 1];
+              add(parts[chunk], a0, a1, b0);
+              if (b1 != b0) add(parts[chunk], a1, b1, b0);
+            }
           }
           if (!across_lines) continue;
           // Each pair of lines writes the after-partners of a's points and the
@@ -559,6 +618,9 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
         }
       },
       kPartsPerThread);
+  if (bridged)
+    for (const auto& part : bridged_parts)
+      bridged->insert(bridged->end(), part.begin(), part.end());
   std::size_t total = 0;
   for (const auto& part : parts)
     total += part.size();

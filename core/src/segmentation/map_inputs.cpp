@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
 #include <limits>
@@ -391,12 +392,43 @@ void markSingleHoles(MapInputs& inputs) {
   }
 }
 
-// What could hide between the ground samples of each ground cell (docs/ALGORITHM.md).
+// Per cell, how many of the sensor's steps along a line its ground samples may lie apart: 1, or
+// where a triangle bridging lost returns may cover it (every cell of its bounds), its
+// steps_apart.
+std::vector<std::uint8_t> stepsApartAlongLines(const std::vector<detail::BridgedTriangle>& bridged,
+                                               const std::vector<Eigen::Vector2i>& cell_of,
+                                               const MapGrid& grid) {
+  std::vector<std::uint8_t> steps(grid.cells(), 1);
+  for (const detail::BridgedTriangle& triangle : bridged) {
+    Eigen::AlignedBox2i box;
+    for (const std::uint32_t corner : triangle.corners)
+      box.extend(cell_of[corner]);
+    const int first_column = std::max(box.min().x(), 0),
+              last_column = std::min(box.max().x(), grid.width - 1);
+    const int first_row = std::max(box.min().y(), 0),
+              last_row = std::min(box.max().y(), grid.height - 1);
+    for (int row = first_row; row <= last_row; ++row)
+      for (int column = first_column; column <= last_column; ++column) {
+        std::uint8_t& here = steps[grid.index(column, row)];
+        here = std::max(here, triangle.steps_apart);
+      }
+  }
+  return steps;
+}
+
+// What could hide between the ground samples of each ground cell (docs/ALGORITHM.md): from the
+// sensor's angular steps at that range, along a line `steps_apart` of them where returns were lost.
 std::vector<float> groundSpacing(const MapInputs& inputs, const ScanAnalysis& analysis,
-                                 int threads) {
+                                 const std::vector<std::uint8_t>& steps_apart, int threads) {
   const MapGrid& grid = inputs.grid;
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   const double scanner_z = analysis.map_from_scanner.translation().z();
+  // The sensor as sparse as its lost returns leave it: index = steps apart along a line.
+  std::array<SensorGeometry, detail::kLostReturnsBridged + 2> sensors;
+  for (std::size_t steps = 1; steps < sensors.size(); ++steps) {
+    sensors[steps] = analysis.sensor;
+    sensors[steps].along_line_step *= double(steps);
+  }
   std::vector<float> spacing(grid.cells(), std::numeric_limits<float>::infinity());
   // A few dozen operations per ground cell, and a multi-beam frame's map has hundreds of
   // thousands: the rows are dealt out to the threads.
@@ -410,8 +442,8 @@ std::vector<float> groundSpacing(const MapInputs& inputs, const ScanAnalysis& an
             const Eigen::Vector2d centre = grid.centre(column, row);
             const Eigen::Vector3d ground(centre.x(), centre.y(), inputs.ground_height[cell]);
             spacing[cell] =
-                float(hiddenObstacleSize(analysis.sensor, scanner_from_map * ground, analysis.up,
-                                         scanner_z - inputs.ground_height[cell]));
+                float(hiddenObstacleSize(sensors[steps_apart[cell]], scanner_from_map * ground,
+                                         analysis.up, scanner_z - inputs.ground_height[cell]));
           }
       });
   return spacing;
@@ -630,14 +662,16 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
     if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
       obstacle_points.push_back(std::uint32_t(i));
   detail::SweepPartners partners(std::move(obstacle_points), scan.size());
+  std::vector<detail::BridgedTriangle> bridged;
   inputs.ground_mesh =
-      meshOf(detail::groundTriangles(scan, pairing, ground_of, limit, threads, &partners), cell_of,
-             inputs.grid, threads);
+      meshOf(detail::groundTriangles(scan, pairing, ground_of, limit, threads, &partners, &bridged),
+             cell_of, inputs.grid, threads);
   markTriangleCells(inputs, ground_of, limit, cell_of, threads);
   markSingleHoles(inputs);
   markPlaneEdges(inputs, limit.plane_heights);
 
-  inputs.ground_spacing = groundSpacing(inputs, analysis, threads);
+  inputs.ground_spacing =
+      groundSpacing(inputs, analysis, stepsApartAlongLines(bridged, cell_of, inputs.grid), threads);
   inputs.sweep_neighbours = sweepNeighbours(scan, partners, mapped.positions,
                                             map_from_scanner.translation().cast<float>(), threads);
   partners.partners = {};  // freed before the obstacles are made
