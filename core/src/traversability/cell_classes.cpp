@@ -16,26 +16,6 @@ void markFromAnyThread(std::uint8_t& flag) {
   std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
 }
 
-// Ground planes reachable from the reference through contacts no higher than the robot's step.
-std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) {
-  std::vector<int> accepted = {analysis.reference_ground};
-  std::queue<int> frontier;
-  frontier.push(analysis.reference_ground);
-  while (!frontier.empty()) {
-    const int plane = frontier.front();
-    frontier.pop();
-    for (const GroundContact& contact : analysis.inputs.contacts) {
-      if (contact.step > max_step) continue;
-      const int other = contact.a == plane ? contact.b : (contact.b == plane ? contact.a : -1);
-      if (other < 0 || std::find(accepted.begin(), accepted.end(), other) != accepted.end())
-        continue;
-      accepted.push_back(other);
-      frontier.push(other);
-    }
-  }
-  return accepted;
-}
-
 // An overhang is "too low" when the lowest thing in the way is above this share of the robot.
 constexpr double kOverhangShare = 0.5;
 
@@ -317,6 +297,11 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
 // step's edge may lie anywhere in it, or just inside the lower cell, whose returns were then the
 // step's face). Beyond the next cell, what either cell's ground plane rises over the distance is no
 // step (a ramp's scan lines leave gaps, and its foot joins the floor over a few cells).
+// markSteps looks at the grid in tiles this many cells square, and skips the flat ones.
+constexpr int kStepTile = 16;
+// What rounding may add to a rise compared with the step (metres): far below any step.
+constexpr double kFlatTileMargin = 1e-6;
+
 void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes,
                int threads) {
   const MapInputs& inputs = analysis.inputs;
@@ -375,16 +360,47 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
       nearer_distance = d;
     }
   };
-  detail::parallelChunks(std::size_t(grid.height), threads,
-                         [&](std::size_t row_begin, std::size_t row_end, std::size_t) {
-                           for (int row = int(row_begin); row < int(row_end); ++row)
-                             for (int column = 0; column < grid.width; ++column) {
-                               const std::size_t cell = grid.index(column, row);
-                               if (inputs.ground_plane[cell] < 0) continue;
-                               compareBack(cell, 1, column, 1, 0);
-                               compareBack(cell, std::size_t(grid.width), row, 0, 1);
-                             }
-                         });
+  // A tile whose ground cells, with those the look-back reaches before it along rows and columns,
+  // lie within the step less what their planes may rise over the look-back holds no two that
+  // differ by a step: none of its cells is compared (most of a road or a floor; isStep could only
+  // say no).
+  auto flatTile = [&](int first_row, int end_row, int first_column, int end_column) {
+    float lowest = std::numeric_limits<float>::max(), highest = -lowest;
+    double steepest = 0.0;  // the largest height coefficient along x or y of the planes there
+    for (int row = std::max(0, first_row - look_back); row < end_row; ++row)
+      for (int column = std::max(0, first_column - look_back); column < end_column; ++column) {
+        const std::size_t cell = grid.index(column, row);
+        const int plane = inputs.ground_plane[cell];
+        if (plane < 0) continue;
+        lowest = std::min(lowest, inputs.ground_height[cell]);
+        highest = std::max(highest, inputs.ground_height[cell]);
+        const Eigen::Vector3d& c = analysis.height_coefficients[std::size_t(plane)];
+        steepest = std::max({steepest, std::abs(c[1]), std::abs(c[2])});
+      }
+    if (lowest > highest) return true;  // no ground at all
+    return double(highest) - double(lowest) + steepest * look_back * grid.resolution <=
+           robot.max_step - kFlatTileMargin;
+  };
+  const int tile_rows = (grid.height + kStepTile - 1) / kStepTile;
+  detail::parallelChunks(
+      std::size_t(tile_rows), threads,
+      [&](std::size_t tile_begin, std::size_t tile_end, std::size_t) {
+        for (int tile_row = int(tile_begin); tile_row < int(tile_end); ++tile_row) {
+          const int first_row = tile_row * kStepTile;
+          const int end_row = std::min(first_row + kStepTile, grid.height);
+          for (int first_column = 0; first_column < grid.width; first_column += kStepTile) {
+            const int end_column = std::min(first_column + kStepTile, grid.width);
+            if (flatTile(first_row, end_row, first_column, end_column)) continue;
+            for (int row = first_row; row < end_row; ++row)
+              for (int column = first_column; column < end_column; ++column) {
+                const std::size_t cell = grid.index(column, row);
+                if (inputs.ground_plane[cell] < 0) continue;
+                compareBack(cell, 1, column, 1, 0);
+                compareBack(cell, std::size_t(grid.width), row, 0, 1);
+              }
+          }
+        }
+      });
   for (std::size_t cell = 0; cell < grid.cells(); ++cell)
     if (stepped[cell]) {
       classes.state[cell] = CellState::kBlocked;
@@ -393,6 +409,25 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
 }
 
 }  // namespace
+
+std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) {
+  std::vector<int> accepted = {analysis.reference_ground};
+  std::queue<int> frontier;
+  frontier.push(analysis.reference_ground);
+  while (!frontier.empty()) {
+    const int plane = frontier.front();
+    frontier.pop();
+    for (const GroundContact& contact : analysis.inputs.contacts) {
+      if (contact.step > max_step) continue;
+      const int other = contact.a == plane ? contact.b : (contact.b == plane ? contact.a : -1);
+      if (other < 0 || std::find(accepted.begin(), accepted.end(), other) != accepted.end())
+        continue;
+      accepted.push_back(other);
+      frontier.push(other);
+    }
+  }
+  return accepted;
+}
 
 CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot,
                           const MapParams& params, const RobotPose* own_place, int threads) {
@@ -481,6 +516,11 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
         const std::size_t cell = grid.index(column, row);
         const Eigen::Vector2d centre = grid.centre(column, row);
         if (blocking_count[cell] != 0 || !own_box.contains(centre.x(), centre.y(), margin))
+          continue;
+        // The half cell around the box is not another level's ground: a box placed against a
+        // pallet's top would take in a strip of it.
+        if (classes.reason[cell] == CellReason::kOtherLevel &&
+            !own_box.contains(centre.x(), centre.y(), 0.0))
           continue;
         classes.state[cell] = CellState::kGround;
         classes.reason[cell] = CellReason::kNone;

@@ -30,6 +30,10 @@ struct CellClasses {
   std::vector<std::uint8_t> sparse;
 };
 
+// Ground planes reachable from the reference through contacts no higher than the robot's step
+// (MapInputs::contacts): the levels the robot can drive on.
+std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step);
+
 // The same classes with every sparse cell blocked (reason kSparse, not by points).
 CellClasses withSparseBlocked(const CellClasses& classes);
 
