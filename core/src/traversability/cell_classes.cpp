@@ -288,6 +288,11 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
       });
 }
 
+// markSteps looks at the grid in tiles this many cells square, and skips the flat ones.
+constexpr int kStepTile = 16;
+// What rounding may add to a rise compared with the step (metres): far below any step.
+constexpr double kFlatTileMargin = 1e-6;
+
 // Ground cells where the ground steps by more than the robot can take become blocked (too steep):
 // cells stepped by a seam (MapInputs::seam_step), and the two ends of a step along a row or a
 // column. Heights are compared between cells next to each other, over a short run of cells
@@ -297,11 +302,6 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
 // step's edge may lie anywhere in it, or just inside the lower cell, whose returns were then the
 // step's face). Beyond the next cell, what either cell's ground plane rises over the distance is no
 // step (a ramp's scan lines leave gaps, and its foot joins the floor over a few cells).
-// markSteps looks at the grid in tiles this many cells square, and skips the flat ones.
-constexpr int kStepTile = 16;
-// What rounding may add to a rise compared with the step (metres): far below any step.
-constexpr double kFlatTileMargin = 1e-6;
-
 void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClasses& classes,
                int threads) {
   const MapInputs& inputs = analysis.inputs;
