@@ -552,24 +552,23 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
       return {i, 0};
     return {i - before <= after - i ? before : after, last - first + 1};
   };
-  // Per part, as `parts` below.
-  std::vector<std::vector<BridgedTriangle>> bridged_parts;
-  // Out of line, so that `add` stays inlined in the loop over lines that lost nothing.
-  auto addCorners = [&](std::size_t chunk, std::vector<std::array<std::uint32_t, 3>> & out,
-                        const Corner& a, const Corner& b, const Corner& c)
-      __attribute__((noinline)) {
-    if (a.point == b.point || b.point == c.point || a.point == c.point) return;
-    if (!add(out, a.point, b.point, c.point)) return;
-    const std::size_t lost = std::max({a.lost, b.lost, c.lost});
-    if (lost > 0 && bridged) bridged_parts[chunk].push_back({out.back(), std::uint8_t(lost + 1)});
-  };
   const std::size_t pairs = pairing.pairs();
   // The ground is uneven along the turn (a wall close by on one side, open floor on the other):
   // several parts per thread keep both threads busy to the end.
   constexpr std::size_t kPartsPerThread = 4;
   std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(
       detail::chunkCount(pairs, threads, kPartsPerThread));
-  if (bridged) bridged_parts.resize(parts.size());
+  // The bridging triangles per part, as `parts`.
+  std::vector<std::vector<BridgedTriangle>> bridged_parts(bridged ? parts.size() : 0);
+  // Out of line, so that `add` stays inlined in the loop over lines that lost nothing.
+  auto addCorners = [&](std::size_t chunk, const Corner& a, const Corner& b, const Corner& c)
+      __attribute__((noinline)) {
+    std::vector<std::array<std::uint32_t, 3>>& out = parts[chunk];
+    if (a.point == b.point || b.point == c.point || a.point == c.point) return;
+    if (!add(out, a.point, b.point, c.point)) return;
+    const std::size_t lost = std::max({a.lost, b.lost, c.lost});
+    if (lost > 0 && bridged) bridged_parts[chunk].push_back({out.back(), std::uint8_t(lost + 1)});
+  };
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
   const bool across_lines = sweep_partners && !rings;
   if (across_lines)
@@ -594,8 +593,8 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
             for (std::size_t k = 0; k + 1 < a.count; ++k) {
               const Corner a0 = standIn(a, a.first + k), a1 = standIn(a, a.first + k + 1);
               const Corner b0 = standIn(b, partners[k]), b1 = standIn(b, partners[k + 1]);
-              addCorners(chunk, parts[chunk], a0, a1, b0);
-              addCorners(chunk, parts[chunk], a1, b1, b0);
+              addCorners(chunk, a0, a1, b0);
+              addCorners(chunk, a1, b1, b0);
             }
           } else {
             for (std::size_t k = 0; k + 1 < a.count; ++k) {

@@ -149,8 +149,8 @@ class LinePairing {
 // most this many in a row between two returns of their line are bridged: the triangles join the
 // returns either side, as if the lost ones were not in the file. A longer run is unobserved (a
 // black obstacle would lose that many). Real scans lose returns everywhere: with a fifth of
-// Hannover's lost at random, the ground triangles kept about one in two, and no cell of the
-// campus showed green or orange.
+// Hannover's lost at random, the ground triangles kept about one in two, and 0.3 % and 0.03 % of
+// the campus's open floor showed green or orange.
 inline constexpr std::size_t kLostReturnsBridged = 2;
 
 // A ground triangle whose corners lie farther apart along their line than the sensor's step,
