@@ -115,6 +115,28 @@ void holdDips(std::vector<double>& along, const ScanLine& line) {
     if (way * (along[i] - along[i - 1]) < 0.0) along[i] = along[i - 1];
 }
 
+// Sorts values that are nearly in order either way (a ring's azimuths: a few hundred returns of a
+// frame lie out of order, each by up to a few dozen places) by insertion, in about one pass;
+// values far out of order go to std::sort after a few passes' worth of moves.
+void sortNearlySorted(float* first, float* last) {
+  if (last - first < 2) return;
+  if (last[-1] < first[0]) std::reverse(first, last);
+  constexpr std::ptrdiff_t kMovesPerValue = 8;
+  std::ptrdiff_t moves_left = kMovesPerValue * (last - first);
+  for (float* next = first + 1; next != last; ++next) {
+    const float value = *next;
+    float* hole = next;
+    for (; hole != first && value < hole[-1]; --hole)
+      *hole = hole[-1];
+    *hole = value;
+    moves_left -= next - hole;
+    if (moves_left < 0) {
+      std::sort(first, last);
+      return;
+    }
+  }
+}
+
 // Whether the lines are fans that sweep in elevation, as a turntable's vertical fans do: on the
 // median line, at least this share of the beam steps (along_line_step) is gained in elevation
 // (counting the rises only, so that fans a file ran together count in full). A nodding scanner's
@@ -454,6 +476,18 @@ LinePairing::LinePairing(const Scan& scan, const std::vector<std::int32_t>& grou
       scanner_height < kElevationHeight)
     along_.clear();
   Fans fans = elevation_fans ? fansOf(scan, sensor, along_) : fansOf(scan, sensor, {});
+  if (multi_beam_ && !along_.empty()) {
+    azimuth_.assign(along_.begin(), along_.end());
+    sorted_azimuth_ = azimuth_;
+    detail::parallelChunks(fans.lines.size(), threads,
+                           [&](std::size_t begin, std::size_t end, std::size_t) {
+                             for (std::size_t l = begin; l < end; ++l) {
+                               const ScanLine& ring = fans.lines[l];
+                               float* first = sorted_azimuth_.data() + ring.first;
+                               sortNearlySorted(first, first + ring.count);
+                             }
+                           });
+  }
   // Along a ring too: a return a little out of azimuth order (a frame corrected for the
   // vehicle's motion steps back up to a degree) would hold the walk on it for the rest of the ring.
   if (elevation_fans || nodding || (multi_beam_ && !along_.empty()))
@@ -469,6 +503,22 @@ LinePairing::LinePairing(const Scan& scan, const std::vector<std::int32_t>& grou
   pairs_ = count == 0 ? 0 : count - 1 + (revolution ? 1 : 0);
 }
 
+double LinePairing::widestGap(const ScanLine& line, double low, double high, double enough) const {
+  const float* first = sorted_azimuth_.data() + line.first;
+  const float* const end = first + line.count;
+  // From the last return at or before `low` (or `low`, where the ring starts after it).
+  const float* next = std::upper_bound(first, end, float(low));
+  double previous = next == first ? low : double(next[-1]);
+  double widest = 0.0;
+  for (; next != end && previous < high && widest <= enough; ++next) {
+    widest = std::max(widest, double(*next) - previous);
+    previous = double(*next);
+  }
+  // Where the ring ends before `high`.
+  if (previous < high) widest = std::max(widest, high - previous);
+  return widest;
+}
+
 void LinePairing::partners(const ScanLine& from, const ScanLine& to,
                            std::vector<std::size_t>& out) const {
   if (!along_.empty()) {
@@ -479,6 +529,16 @@ void LinePairing::partners(const ScanLine& from, const ScanLine& to,
   for (std::size_t k = 0; k < from.count; ++k)
     out[k] = partner(from, to, k);
 }
+
+// Ragged rings (a file that keeps only the returns): two neighbouring returns of a ring and the
+// nearest return of the next ring span up to about one and a half of the sensor's steps in
+// azimuth (its returns jitter a fraction of a step); a triangle spanning more than
+// kNeighbourRingSpan steps has its rings' gaps looked up (it may bridge lost returns, or pair a
+// return stored out of azimuth order, whose ring's other returns fill the span: a frame corrected
+// for the vehicle's motion has hundreds, up to 6 deg back). A gap wider than kWidestRingGap steps
+// lost more than kLostReturnsBridged returns in a row, as an obstacle that returns nothing does.
+constexpr double kNeighbourRingSpan = 1.75;
+constexpr double kWidestRingGap = double(kLostReturnsBridged) + 1.5;
 
 std::vector<std::array<std::uint32_t, 3>> groundTriangles(
     const Scan& scan, const LinePairing& pairing, const std::vector<std::int32_t>& ground_of,
@@ -560,14 +620,47 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
       detail::chunkCount(pairs, threads, kPartsPerThread));
   // The bridging triangles per part, as `parts`.
   std::vector<std::vector<BridgedTriangle>> bridged_parts(bridged ? parts.size() : 0);
+  // Along ragged rings, how many of the sensor's steps apart the samples under a triangle of
+  // `line` and `other` lie (1 to kLostReturnsBridged + 1), or 0 where it would bridge more lost
+  // returns in a row: the widest gap between azimuth neighbours of either ring across the
+  // corners' azimuths.
+  const double ring_step = limit.sensor.along_line_step;
+  const bool ragged_rings = pairing.raggedRings() && ring_step > 0.0;
+  auto ringStepsApart = [&](const ScanLine& line, const ScanLine& other, std::size_t a,
+                            std::size_t b, std::size_t c) -> std::size_t {
+    const double azimuths[] = {pairing.azimuth(a), pairing.azimuth(b), pairing.azimuth(c)};
+    const auto [low, high] = std::minmax_element(std::begin(azimuths), std::end(azimuths));
+    if (*high - *low <= kNeighbourRingSpan * ring_step) return 1;
+    const double widest_allowed = kWidestRingGap * ring_step;
+    const double widest = std::max(pairing.widestGap(line, *low, *high, widest_allowed),
+                                   pairing.widestGap(other, *low, *high, widest_allowed));
+    if (widest > widest_allowed) return 0;
+    return std::clamp<std::size_t>(std::size_t(std::lround(widest / ring_step)), 1,
+                                   kLostReturnsBridged + 1);
+  };
+  // Adds the triangle with `steps_apart` (at least that many along its lines), where it may be
+  // made: along ragged rings, only where it bridges no more than kLostReturnsBridged in a row.
+  auto addApart = [&](std::size_t chunk, const ScanLine& line, const ScanLine& other, std::size_t a,
+                      std::size_t b, std::size_t c, std::size_t steps_apart) {
+    if (ragged_rings) {
+      if (ground_of[a] < 0 || ground_of[b] < 0 || ground_of[c] < 0) return;
+      const std::size_t along_rings = ringStepsApart(line, other, a, b, c);
+      if (along_rings == 0) return;
+      steps_apart = std::max(steps_apart, along_rings);
+    }
+    if (!add(parts[chunk], a, b, c)) return;
+    if (steps_apart > 1 && bridged)
+      bridged_parts[chunk].push_back({parts[chunk].back(), std::uint8_t(steps_apart)});
+  };
+  auto addRingTriangle = [&](std::size_t chunk, const ScanLine& line, const ScanLine& other,
+                             std::size_t a, std::size_t b,
+                             std::size_t c) { addApart(chunk, line, other, a, b, c, 1); };
   // Out of line, so that `add` stays inlined in the loop over lines that lost nothing.
-  auto addCorners = [&](std::size_t chunk, const Corner& a, const Corner& b, const Corner& c)
+  auto addCorners = [&](std::size_t chunk, const ScanLine& line, const ScanLine& other,
+                        const Corner& a, const Corner& b, const Corner& c)
       __attribute__((noinline)) {
-    std::vector<std::array<std::uint32_t, 3>>& out = parts[chunk];
     if (a.point == b.point || b.point == c.point || a.point == c.point) return;
-    if (!add(out, a.point, b.point, c.point)) return;
-    const std::size_t lost = std::max({a.lost, b.lost, c.lost});
-    if (lost > 0 && bridged) bridged_parts[chunk].push_back({out.back(), std::uint8_t(lost + 1)});
+    addApart(chunk, line, other, a.point, b.point, c.point, std::max({a.lost, b.lost, c.lost}) + 1);
   };
   // A multi-beam frame sweeps along its rings, a fraction of a degree between returns: no partners.
   const bool across_lines = sweep_partners && !rings;
@@ -589,12 +682,19 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
           const ScanLine& b = pairing.after(l);
           if (a.count == 0 || b.count == 0) continue;
           pairing.partners(a, b, partners);
-          if (anyLost(a) || anyLost(b)) {
+          if (ragged_rings && !anyLost(a) && !anyLost(b)) {
+            for (std::size_t k = 0; k + 1 < a.count; ++k) {
+              const std::size_t a0 = a.first + k, a1 = a0 + 1;
+              const std::size_t b0 = partners[k], b1 = partners[k + 1];
+              addRingTriangle(chunk, a, b, a0, a1, b0);
+              if (b1 != b0) addRingTriangle(chunk, a, b, a1, b1, b0);
+            }
+          } else if (ragged_rings || anyLost(a) || anyLost(b)) {
             for (std::size_t k = 0; k + 1 < a.count; ++k) {
               const Corner a0 = standIn(a, a.first + k), a1 = standIn(a, a.first + k + 1);
               const Corner b0 = standIn(b, partners[k]), b1 = standIn(b, partners[k + 1]);
-              addCorners(chunk, a0, a1, b0);
-              addCorners(chunk, a1, b1, b0);
+              addCorners(chunk, a, b, a0, a1, b0);
+              addCorners(chunk, a, b, a1, b1, b0);
             }
           } else {
             for (std::size_t k = 0; k + 1 < a.count; ++k) {

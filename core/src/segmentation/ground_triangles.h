@@ -136,10 +136,22 @@ class LinePairing {
   void partners(const ScanLine& from, const ScanLine& to, std::vector<std::size_t>& out) const;
   // Rings, a fraction of a degree between returns along them and metres between them.
   bool multiBeam() const { return multi_beam_; }
+  // Rings of a file that keeps only the returns (KITTI's .bin, an unorganised ring PCD): a lost
+  // return shows only as a gap in its ring's azimuths.
+  bool raggedRings() const { return !azimuth_.empty(); }
+  // Ragged rings: the azimuth of `point` as measured (unwrapped along its ring) [rad].
+  double azimuth(std::size_t point) const { return double(azimuth_[point]); }
+  // Ragged rings: the widest azimuth gap [rad] between returns of `line` that lie next to each
+  // other in azimuth, over the gaps that reach into [low, high] (a return stored out of azimuth
+  // order fills the gap it left); once one is wider than `enough`, that one.
+  double widestGap(const ScanLine& line, double low, double high, double enough) const;
 
  private:
   bool multi_beam_ = false;
-  std::vector<double> along_;       // per point, the angle along its line; empty: by index
+  std::vector<double> along_;  // per point, the angle along its line; empty: by index
+  // Ragged rings only: per point its azimuth as measured (along_ holds dips level), and per ring
+  // the same values sorted.
+  std::vector<float> azimuth_, sorted_azimuth_;
   std::vector<ScanLine> lines_;     // what is paired: the lines, or the fans within them
   std::vector<std::size_t> order_;  // lines_ side by side
   std::size_t pairs_ = 0;

@@ -546,6 +546,67 @@ TEST_P(KittiFrame, OpenRoadIsShownAndNothingGreenStandsOnAnObstacle) {
   EXPECT_EQ(figures.green_over_obstacle, 0u);
 }
 
+// A box that returns nothing (black, or glass) on the road ahead: a file of rings that keeps only
+// the returns (KITTI's) shows it as a gap in each ring that meets it or passes over its shadow,
+// 14 to 35 of the sensor's steps wide. The ground triangles bridged gaps narrower than their edge
+// limit (1 m): a box 0.5 m square and 0.4 m high 8 m ahead was shown green, all 64 cells inside
+// it. Nothing may be shown there, and the road around it still is.
+struct ReturnlessBox {
+  Eigen::Vector2d centre;
+  double side, height;  // [m]
+};
+
+TEST_P(KittiFrame, AnObstacleThatReturnsNothingIsNotBridged) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(file, std::string("kitti/") + GetParam());
+  const Scan frame = loadScan(file);
+  const RoadPlane road = fitRoad(frame);
+  for (const ReturnlessBox& box :
+       {ReturnlessBox{{8.0, 0.0}, 0.5, 0.4}, ReturnlessBox{{10.0, 0.0}, 0.6, 0.5},
+        ReturnlessBox{{8.0, 0.0}, 0.8, 1.0}}) {
+    const double half_side = box.side / 2;
+    // Whether the ray from the sensor to `p` meets the box (from 0.1 m under the road, where its
+    // foot's returns would be, to its top).
+    auto hidden = [&](const Point3f& point) {
+      const Eigen::Vector3d p(point.x, point.y, point.z);
+      constexpr int kSamples = 400;
+      for (int k = 1; k <= kSamples; ++k) {
+        const Eigen::Vector3d q = p * (double(k) / kSamples);
+        const double height = road.height(q);
+        if ((q.head<2>() - box.centre).cwiseAbs().maxCoeff() < half_side && height > -0.1 &&
+            height < box.height)
+          return true;
+      }
+      return false;
+    };
+    const Scan scan = subsetOf(frame, [&](std::size_t, const Point3f& p) { return !hidden(p); });
+    ASSERT_LT(scan.size(), frame.size());
+    const PipelineResult result = runPipeline(scan, SegmentationParams{});
+    ASSERT_TRUE(result.trusted()) << result.reason;
+    const TraversabilityMap& map = result.map;
+    const Eigen::Isometry3d scanner_from_map = result.analysis->map_from_scanner.inverse();
+    std::size_t inside = 0, shown = 0;
+    for (int row = 0; row < map.grid.height; ++row)
+      for (int column = 0; column < map.grid.width; ++column) {
+        const Eigen::Vector2d m = map.grid.centre(column, row);
+        const Eigen::Vector3d p = scanner_from_map * Eigen::Vector3d(m.x(), m.y(), 0.0);
+        if ((p.head<2>() - box.centre).cwiseAbs().maxCoeff() >= half_side - map.grid.resolution)
+          continue;
+        ++inside;
+        shown += map.label(column, row) != CellLabel::kUnknown;
+      }
+    const OpenFloorFigures figures = measureOpenFloor(scan, result, true);
+    const double open_shown =
+        double(figures.shown) / double(std::max<std::size_t>(figures.open_positions, 1));
+    std::cout << "[ figures  ] " << GetParam() << ", box " << box.side << " m " << box.centre.x()
+              << " m ahead: " << shown << " of the " << inside
+              << " cells inside it on the map; open floor shown " << open_shown << "\n";
+    EXPECT_GE(inside, 16u);
+    EXPECT_EQ(shown, 0u) << "box " << box.side << " m";
+    EXPECT_GE(open_shown, 0.80);
+    EXPECT_EQ(figures.green_over_obstacle, 0u);
+  }
+}
+
 // ---- A room: ground is the lowest surface in its column ----
 
 // The PCL room's table top, 0.72 m above the floor, is flat, below the scanner and large: it was a
