@@ -259,11 +259,18 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
     // its normal (closed form: a QR solve per triangle was a tenth of a multi-beam frame's
     // time). A triangle flat in x-y covers no cell centre; it keeps its first corner's z.
     // A triangle joining two ground planes spans their step over the cells it fills.
-    // A long triangle of one plane may hide a step in what it bridges.
-    float joined_step = float(limit.joinedStep(ground_of, triangle[0], triangle[1], triangle[2]));
-    if (joined_step == 0.0F)
-      joined_step = float(limit.spannedStep(ground_of, triangle[0], triangle[1], triangle[2]));
-    const bool joins = joined_step > 0.0F;
+    // A long triangle of one plane may hide a step in what it bridges. Worked out at the first
+    // cell it fills: on a multi-beam frame most large triangles only cross cells filled already,
+    // and the two steps were a quarter of this stage's instructions.
+    float joined_step = -1.0F;
+    auto stepOfTriangle = [&] {
+      if (joined_step < 0.0F) {
+        joined_step = float(limit.joinedStep(ground_of, triangle[0], triangle[1], triangle[2]));
+        if (joined_step == 0.0F)
+          joined_step = float(limit.spannedStep(ground_of, triangle[0], triangle[1], triangle[2]));
+      }
+      return joined_step;
+    };
     const Eigen::Vector3d p0 = mapped[triangle[0]].cast<double>();
     const Eigen::Vector3d normal =
         (mapped[triangle[1]].cast<double>() - p0).cross(mapped[triangle[2]].cast<double>() - p0);
@@ -292,7 +299,7 @@ void markTriangleCells(MapInputs& inputs, const std::vector<std::int32_t>& groun
         const Eigen::Vector2d centre = grid.centre(column, row);
         if (markGround(inputs, column, row, ground_of[triangle[0]],
                        float(h[0] + h[1] * centre.x() + h[2] * centre.y())) &&
-            joins)
+            stepOfTriangle() > 0.0F)
           inputs.seam_step[grid.index(column, row)] = joined_step;
       }
     }
