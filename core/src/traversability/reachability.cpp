@@ -358,15 +358,16 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
       if (grid.inside(c, r)) met[grid.index(c, r)] |= here;
     }
   }
-  for (std::size_t cell = 0; cell < cells; ++cell)
+  for (std::size_t cell = 0; cell < cells; ++cell) {
+    if (!met[cell]) continue;
+    std::uint8_t* fits = map.pose_fit.fitsOf(cell);
     for (Mask m = met[cell]; m; m &= m - 1) {
-      const std::size_t state =
-          cell * orientations + std::size_t(by_angle[std::size_t(std::countr_zero(m))]);
-      map.pose_fit[state] = pose_fits[state];
+      const auto k = std::size_t(by_angle[std::size_t(std::countr_zero(m))]);
+      fits[k] = pose_fits[cell * orientations + k];
     }
-  const std::size_t start_state = start_cell * orientations + std::size_t(map.robot_orientation);
-  if (map.pose_fit[start_state] == std::uint8_t(PoseFit::kBlocked))
-    map.pose_fit[start_state] = std::uint8_t(PoseFit::kCareful);
+  }
+  std::uint8_t& start_fit = map.pose_fit.fitsOf(start_cell)[std::size_t(map.robot_orientation)];
+  if (start_fit == std::uint8_t(PoseFit::kBlocked)) start_fit = std::uint8_t(PoseFit::kCareful);
 }
 
 }  // namespace
@@ -401,7 +402,7 @@ void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& po
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();
   map.reach.assign(grid.cells(), 0);
-  map.pose_fit.assign(grid.cells() * orientations, std::uint8_t(PoseFit::kUntested));
+  map.pose_fit = MetPoseFits(grid.cells(), orientations);
   map.reachable_cells = 0;
   const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
   if (orientations == 0 || map.robot_orientation < 0 || !grid.inside(start.x(), start.y())) return;
@@ -429,13 +430,16 @@ void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& po
   queue.reserve(std::size_t(map.reachable_cells) + 1024);
   const Pose first{start.x(), start.y(), map.robot_orientation};
   const std::size_t first_state = stateOf(first.column, first.row, first.k);
+  // The fit of every state met, kUntested where none was: more orientations than a mask's bits
+  // are rare (a scene of many walls), so this search keeps a table of every state.
+  std::vector<std::uint8_t> met_fits(grid.cells() * orientations, std::uint8_t(PoseFit::kUntested));
   // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
   // off its exact position, touch something just outside its box.
-  map.pose_fit[first_state] = pose_fits[first_state] == std::uint8_t(PoseFit::kBlocked)
-                                  ? std::uint8_t(PoseFit::kCareful)
-                                  : pose_fits[first_state];
+  met_fits[first_state] = pose_fits[first_state] == std::uint8_t(PoseFit::kBlocked)
+                              ? std::uint8_t(PoseFit::kCareful)
+                              : pose_fits[first_state];
   queue.push_back(first);
-  std::uint8_t* const met = map.pose_fit.data();
+  std::uint8_t* const met = met_fits.data();
   const std::uint8_t* const fits = pose_fits.data();
   auto meet = [&](std::size_t state, int column, int row, int k) {
     if (met[state] != std::uint8_t(PoseFit::kUntested)) return;
@@ -460,6 +464,13 @@ void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& po
     }
     for (int other : turns[std::size_t(pose.k)])
       meet(cell * orientations + std::size_t(other), pose.column, pose.row, other);
+  }
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell) {
+    const std::uint8_t* cell_fits = met_fits.data() + cell * orientations;
+    if (std::all_of(cell_fits, cell_fits + orientations,
+                    [](std::uint8_t fit) { return fit == std::uint8_t(PoseFit::kUntested); }))
+      continue;
+    std::copy(cell_fits, cell_fits + orientations, map.pose_fit.fitsOf(cell));
   }
 }
 
@@ -556,7 +567,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   std::vector<double> factor(states, 0.0);
   for (std::size_t d = 0; d < cell_of.size(); ++d)
     for (std::size_t k = 0; k < orientations; ++k) {
-      const auto fit = PoseFit(map.pose_fit[cell_of[d] * orientations + k]);
+      const PoseFit fit = map.pose_fit.at(cell_of[d], k);
       factor[d * orientations + k] = fit == PoseFit::kClear     ? 1.0
                                      : fit == PoseFit::kCareful ? kCarefulCostFactor
                                                                 : 0.0;

@@ -329,13 +329,15 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
                                std::to_string(produced.labels[cell]) + ", reference " +
                                std::to_string(reference.labels[cell]);
   }
-  ASSERT_EQ(produced.pose_fit.size(), loose.pose_fit.size());
+  const std::size_t orientations = produced.yaws.size();
+  ASSERT_EQ(produced.pose_fit.cells() * orientations, loose.pose_fit.size());
   for (std::size_t state = 0; state < loose.pose_fit.size(); ++state) {
-    fit_differences += produced.pose_fit[state] != loose.pose_fit[state];
+    const auto fit = std::uint8_t(produced.pose_fit.at(state / orientations, state % orientations));
+    fit_differences += fit != loose.pose_fit[state];
     if (fit_differences == 1 && first_fit_difference.empty())
-      first_fit_difference = "first at cell " + std::to_string(state / produced.yaws.size()) +
-                             ", orientation " + std::to_string(state % produced.yaws.size()) +
-                             ": fit " + std::to_string(produced.pose_fit[state]) + ", reference " +
+      first_fit_difference = "first at cell " + std::to_string(state / orientations) +
+                             ", orientation " + std::to_string(state % orientations) + ": fit " +
+                             std::to_string(fit) + ", reference " +
                              std::to_string(loose.pose_fit[state]);
     visited += loose.pose_fit[state] != std::uint8_t(PoseFit::kUntested);
   }

@@ -156,7 +156,7 @@ double cheapestCost(const TraversabilityMap& map, const Eigen::Vector2d& goal) {
   const std::size_t goal_cell = grid.index(target.x(), target.y());
   auto factor = [&](std::size_t state) {
     if (!map.reach[state / orientations]) return 0.0;
-    const auto fit = PoseFit(map.pose_fit[state]);
+    const PoseFit fit = map.pose_fit.at(state / orientations, state % orientations);
     return fit == PoseFit::kClear ? 1.0 : fit == PoseFit::kCareful ? kCarefulFactor : 0.0;
   };
   while (!queue.empty()) {

@@ -75,9 +75,9 @@ struct TraversabilityMap {
   // Why the reach stops short, in words (empty unless the robot fits in more cells it cannot get
   // to than it reaches): unobserved ground around it, or what shuts it in.
   std::string reach_limit;
-  // PoseFit per (cell, orientation), cell-major (cell * yaws.size() + k); tested lazily by the
-  // reachability search, so a goal query finds every reachable pose's fit here.
-  std::vector<std::uint8_t> pose_fit;
+  // The fit of every pose the reachability search met, so a goal query finds every reachable
+  // pose's fit here (kUntested elsewhere).
+  MetPoseFits pose_fit;
 
   CellLabel label(int column, int row) const { return CellLabel(labels[grid.index(column, row)]); }
   double yawDegrees(int column, int row) const;  // NaN where nothing fits
