@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "../../../core/src/segmentation/ground_triangles.h"
 #include "clearway/eval/evaluation.h"
+#include "clearway/sensor_geometry.h"
 #include "engine_fixtures.h"
 
 namespace clearway {
@@ -127,6 +129,82 @@ TEST(LostReturns, BridgedGroundCountsAsSparser) {
             << median << " (median) times the whole scan's\n";
   EXPECT_GT(median, 1.3);
   EXPECT_GT(low, 0.95);
+}
+
+// A file of rings that keeps only the returns shows a lost one only as a gap in its ring's
+// azimuths. Two rings 1 deg between returns, 5 and 5.5 m out on flat ground: the first lost one
+// return at 50 deg and five from 100 deg (a black box 0.45 m wide, well within the triangles'
+// 1 m edge limit), the second keeps two returns out of azimuth order (200 and 203 deg swapped, as a
+// frame corrected for the vehicle's motion keeps some). Units of the stage: LinePairing's gaps and
+// the ground triangles over them.
+TEST(LostReturns, ARaggedRingsGapIsBridgedOnlyUpToTwoLostReturns) {
+  constexpr double kDegree = std::numbers::pi / 180.0;
+  constexpr float kHeight = 1.7F;
+  Scan scan;
+  SensorGeometry sensor;
+  sensor.kind = SensorKind::kMultiBeam;
+  sensor.lines = 2;
+  sensor.along_line_step = kDegree;
+  for (const double range : {5.0, 5.5}) {
+    ScanLine ring{scan.points.size(), 0, std::nan("")};
+    std::vector<int> azimuths;
+    for (int a = 0; a < 360; ++a) {
+      const bool lost = range == 5.0 && (a == 50 || (a >= 100 && a < 105));
+      if (!lost) azimuths.push_back(a);
+    }
+    if (range == 5.5)
+      std::swap(*std::find(azimuths.begin(), azimuths.end(), 200),
+                *std::find(azimuths.begin(), azimuths.end(), 203));
+    for (const int a : azimuths) {
+      scan.points.push_back(
+          {float(range * std::cos(a * kDegree)), float(range * std::sin(a * kDegree)), -kHeight});
+      scan.status.push_back(PointStatus::kValid);
+    }
+    ring.count = scan.points.size() - ring.first;
+    scan.lines.push_back(ring);
+    sensor.line_angle.push_back(std::atan2(-kHeight, range));
+  }
+  sensor.between_line_step = std::abs(sensor.line_angle[1] - sensor.line_angle[0]);
+  const std::vector<std::int32_t> ground_of(scan.size(), 0);
+  const detail::LinePairing pairing(scan, ground_of, sensor, kHeight, 1);
+  ASSERT_TRUE(pairing.raggedRings());
+  EXPECT_NEAR(pairing.widestGap(scan.lines[0], 99.5 * kDegree, 104.5 * kDegree, 1.0), 6 * kDegree,
+              1e-4);
+  EXPECT_NEAR(pairing.widestGap(scan.lines[1], 199.5 * kDegree, 203.5 * kDegree, 1.0), kDegree,
+              1e-4);
+
+  std::vector<Eigen::Vector3f> mapped;
+  for (const Point3f& p : scan.points)
+    mapped.emplace_back(p.x, p.y, p.z);
+  const detail::EdgeLimit limit{mapped, sensor, 1.0, kHeight};
+  std::vector<detail::BridgedTriangle> bridged;
+  const auto triangles =
+      detail::groundTriangles(scan, pairing, ground_of, limit, 1, nullptr, &bridged);
+  // The azimuths a triangle's corners span [deg].
+  auto span = [&](const std::array<std::uint32_t, 3>& t) {
+    std::array<double, 3> a{};
+    for (std::size_t c = 0; c < 3; ++c) {
+      const Point3f& p = scan.points[t[c]];
+      a[c] = std::atan2(p.y, p.x) / kDegree;
+      if (a[c] < 0) a[c] += 360.0;
+    }
+    return std::pair{*std::min_element(a.begin(), a.end()), *std::max_element(a.begin(), a.end())};
+  };
+  std::size_t across_the_box = 0, across_the_swap = 0, across_the_single = 0;
+  for (const auto& t : triangles) {
+    const auto [low, high] = span(t);
+    across_the_box += low < 102.5 && high > 102.5;
+    across_the_swap += low < 201.5 && high > 201.5;
+    across_the_single += low < 50.0 && high > 50.0;
+  }
+  EXPECT_EQ(across_the_box, 0U);
+  EXPECT_GT(across_the_swap, 0U);
+  EXPECT_GT(across_the_single, 0U);
+  // The gap of one lost return is bridged with its samples two steps apart.
+  EXPECT_TRUE(std::any_of(bridged.begin(), bridged.end(), [&](const detail::BridgedTriangle& b) {
+    const auto [low, high] = span(b.corners);
+    return low < 50.0 && high > 50.0 && b.steps_apart == 2;
+  }));
 }
 
 }  // namespace
