@@ -2,12 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <numbers>
 #include <opencv2/imgproc.hpp>
 
 #include "../segmentation/parallel.h"
+#include "distance_field.h"
 
 namespace clearway::detail {
 namespace {
@@ -17,9 +17,9 @@ constexpr double kWallGapBridge = 0.3;
 
 // OpenCV's 8-bit masks: a set pixel.
 constexpr std::uint8_t kMaskSet = 255;
-// The clearance is the distance transform less this [cells]: its 5 x 5 mask is within a few per
-// cent of the exact distance, and the one cell less keeps every use conservative.
-constexpr float kClearanceMarginCells = 1.0F;
+// The clearance is the exact distance to the nearest blocking cell less this [cells]: far above
+// the rounding of a float distance of a few thousand cells, far below any radius that matters.
+constexpr float kClearanceMarginCells = 1e-3F;
 
 // Rounding allowance of the exact test's cell bounds [m]: far below any distance that matters,
 // far above the rounding of a coordinate of a few tens of metres.
@@ -104,18 +104,13 @@ struct Range {
   bool oneSign() const { return low > 0 || high < 0; }
 };
 
-std::vector<float> distancesLessOneCell(const cv::Mat& free_mask) {
-  // The outside of the map blocks (nothing was seen there), as in the tester's padded arrays; the
-  // distance transform alone would take it for free space and vouch for boxes sticking out.
-  cv::Mat bordered, distance;
-  cv::copyMakeBorder(free_mask, bordered, 1, 1, 1, 1, cv::BORDER_CONSTANT, cv::Scalar(0));
-  cv::distanceTransform(bordered, distance, cv::DIST_L2, cv::DIST_MASK_5);
-  distance = distance(cv::Rect(1, 1, free_mask.cols, free_mask.rows)) - kClearanceMarginCells;
-  std::vector<float> values(std::size_t(distance.rows) * std::size_t(distance.cols));
-  for (int row = 0; row < distance.rows; ++row)
-    std::memcpy(values.data() + std::size_t(row) * std::size_t(distance.cols),
-                distance.ptr<float>(row), std::size_t(distance.cols) * sizeof(float));
-  return values;
+// The clearance of every cell (FootprintTester::clearance) from a mask of the cells that do not
+// block.
+std::vector<float> clearances(const std::vector<std::uint8_t>& free_mask, const MapGrid& grid) {
+  std::vector<float> distance = distanceToBlocked(free_mask, grid.width, grid.height);
+  for (float& d : distance)
+    d -= kClearanceMarginCells;
+  return distance;
 }
 
 }  // namespace
@@ -245,28 +240,17 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   half_width_ = robot.width / 2;
   step_ = grid.resolution / kCentresPerAxis;
 
-  cv::Mat free_mask(grid.height, grid.width, CV_8UC1), lenient_mask;
-  for (int row = 0; row < grid.height; ++row) {
-    std::uint8_t* cells = free_mask.ptr<std::uint8_t>(row);
-    const CellState* states = classes.state.data() + grid.index(0, row);
-    for (int column = 0; column < grid.width; ++column)
-      cells[column] =
-          states[column] == CellState::kGround || states[column] == CellState::kLowObstacle
-              ? kMaskSet
-              : 0;
-  }
-  lenient_mask = free_mask.clone();
-  for (int row = 0; row < grid.height; ++row) {
-    std::uint8_t* cells = lenient_mask.ptr<std::uint8_t>(row);
-    const std::uint8_t* vouched = tolerated.data() + grid.index(0, row);
-    for (int column = 0; column < grid.width; ++column)
-      cells[column] = vouched[column] ? kMaskSet : cells[column];
+  std::vector<std::uint8_t> free_mask(grid.cells()), lenient_mask(grid.cells());
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell) {
+    const CellState state = classes.state[cell];
+    free_mask[cell] = state == CellState::kGround || state == CellState::kLowObstacle;
+    lenient_mask[cell] = free_mask[cell] || tolerated[cell];
   }
   // The two distance transforms side by side.
   parallelChunks(2, threads, [&](std::size_t begin, std::size_t end, std::size_t) {
     for (std::size_t which = begin; which < end; ++which)
       (which == 0 ? clearance_ : lenient_clearance_) =
-          distancesLessOneCell(which == 0 ? free_mask : lenient_mask);
+          clearances(which == 0 ? free_mask : lenient_mask, grid);
   });
 
   for (const auto& offsets : footprints.rim)

@@ -29,9 +29,9 @@ inline constexpr double kCoreInsetCells = 1.2;
 // the robot's centre up to 0.4 cells along each axis: every cell within this of the box may matter.
 inline constexpr double kRimReachCells = 1.3;
 // A blocked cell's points lie up to 0.71 cells beyond its centre and the robot's centre moves up
-// to 0.57 cells in its cell: below inradius - 1.28 cells (less the clearance's one-cell margin)
-// no position can fit, so the exact test is not even tried.
-inline constexpr float kExactTestSlackCells = 2.3F;
+// to 0.57 cells in its cell: with a clearance below inradius - 1.28 cells no position can fit, so
+// the exact test is not even tried (0.02 for rounding).
+inline constexpr float kExactTestSlackCells = 1.3F;
 
 // The exact test tries the robot's centre at this many positions along each of the box's axes,
 // a fifth of a cell apart (the paper's finer discretisation).
@@ -108,10 +108,9 @@ class FootprintTester {
                   const std::vector<std::uint8_t>& tolerated, const Footprints& footprints,
                   const RobotParams& robot, int threads = 1);
 
-  // Distance (in cells) from the cell's centre to the nearest cell that blocks, less one cell:
-  // strictly (unobserved blocks) and leniently (tolerated unobserved cells do not). The distance
-  // transform's 5x5 mask is within a few per cent of the exact distance; the one cell less keeps
-  // every use conservative (it may only make the tests do more work, never skip a cell).
+  // Distance (in cells) from the cell's centre to the nearest centre of a cell that blocks, exact
+  // (distance_field.h) less a rounding margin: strictly (unobserved blocks) and leniently
+  // (tolerated unobserved cells do not). Every use skips only tests whose outcome it is sure of.
   float clearance(int column, int row) const { return clearance_[index(column, row)]; }
   float lenientClearance(int column, int row) const {
     return lenient_clearance_[index(column, row)];
