@@ -37,6 +37,7 @@ SegmentationParams paramsFromArguments(const Arguments& arguments) {
     else
       throw UsageError("--method is split-and-merge or hough");
   }
+  params.robot.name = presetOrCustomName(params.robot);
   if (const auto reasons = params.validate(); !reasons.empty()) throw UsageError(reasons.front());
   return params;
 }

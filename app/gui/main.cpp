@@ -174,7 +174,10 @@ int main(int argc, char** argv) {
       !readGoal(parser, goal) || !readThreads(parser, threads))
     return 2;
   window.session()->setThreads(threads);
-  window.setRobot(robot);
+  if (const std::string refused = window.robotPanel()->takeRobot(robot); !refused.empty()) {
+    std::fprintf(stderr, "clearway: %s\n", refused.c_str());
+    return 2;
+  }
   if (size.isValid()) window.resize(size);
   window.show();
 

@@ -182,6 +182,33 @@ class ConsoleTruthTest : public QObject {
     QVERIFY(window.windowTitle().contains("custom"));
   }
 
+  // A robot asked for from the command line is shown as given or refused with the reason: the
+  // panel's boxes would have changed a 100 m width to 4 m, and a 0.05 m height to 0.11 m, silently
+  // (the map was of a robot nobody asked for), and a changed preset kept the preset's name.
+  void aRobotFromOutsideIsShownAsGivenOrRefused() {
+    MainWindow window;
+    RobotPanel* panel = window.robotPanel();
+    const clearway::RobotParams before = panel->robot();
+    clearway::RobotParams huge = before;
+    huge.width = 100.0;
+    const std::string too_wide = panel->takeRobot(huge);
+    QVERIFY2(too_wide.find("robot.width") != std::string::npos, too_wide.c_str());
+    QCOMPARE(panel->robot().width, before.width);
+    clearway::RobotParams flat = before;
+    flat.height = 0.05;
+    const std::string too_low = panel->takeRobot(flat);
+    QVERIFY2(too_low.find("max_step") != std::string::npos, too_low.c_str());
+    QCOMPARE(panel->robot().height, before.height);
+    clearway::RobotParams wide = before;  // still named as the preset
+    wide.width = 0.9;
+    wide.length = 0.5;
+    QCOMPARE(QString::fromStdString(panel->takeRobot(wide)), QString());
+    QCOMPARE(panel->robot().width, 0.9);
+    QCOMPARE(panel->robot().length, 0.5);
+    QCOMPARE(panel->presetName(), QString("custom"));
+    QCOMPARE(QString::fromStdString(panel->robot().name), QString("custom"));
+  }
+
   // Defect 7: fits 1366x768 at first start, remembers its layout, View menu and shortcuts.
   void theWindowFitsASmallScreenAndRemembersItsLayout() {
     {

@@ -7,6 +7,7 @@
 #include <QSignalBlocker>
 #include <QSlider>
 #include <cmath>
+#include <cstdio>
 
 namespace clearway::ui {
 namespace {
@@ -168,7 +169,9 @@ RobotParams RobotPanel::robot() const {
   return params.robot;
 }
 
-void RobotPanel::setRobot(const RobotParams& robot) {
+void RobotPanel::setRobot(const RobotParams& given) {
+  RobotParams robot = given;
+  robot.name = presetOrCustomName(robot);
   SegmentationParams params;
   params.robot = robot;
   bool changed = false;
@@ -184,6 +187,26 @@ void RobotPanel::setRobot(const RobotParams& robot) {
   d_->showPresetName();
   d_->updateLimits(this->robot());
   if (changed) emit robotChanged(this->robot());
+}
+
+std::string RobotPanel::takeRobot(const RobotParams& robot) {
+  SegmentationParams params = d_->engine;
+  params.robot = robot;
+  for (const std::string& reason : params.validate())
+    if (reason.find("robot") != std::string::npos) return reason;
+  // Each size against the range the panel takes with the robot's other sizes.
+  for (const Private::Dimension& dimension : d_->dimensions) {
+    const double value = parameterValue(params, dimension.key);
+    const auto [low, high] = d_->accepted(dimension.key, robot);
+    if (value < low - 1e-9 || value > high + 1e-9) {
+      char range[96];
+      std::snprintf(range, sizeof range, " from %.2f to %.2f m with its other sizes, not %g m", low,
+                    high, value);
+      return "the console takes " + dimension.key + range;
+    }
+  }
+  setRobot(robot);
+  return {};
 }
 
 void RobotPanel::setEngineParams(const SegmentationParams& params) {

@@ -215,6 +215,15 @@ std::vector<RobotParams> robotPresets() {
           {"LMF arm raised (tall)", 0.85, 1.2, 2.1, 0.1}};
 }
 
+std::string presetOrCustomName(const RobotParams& robot) {
+  for (const RobotParams& preset : robotPresets())
+    if (preset.name == robot.name &&
+        (preset.width != robot.width || preset.length != robot.length ||
+         preset.height != robot.height || preset.max_step != robot.max_step))
+      return "custom";
+  return robot.name;
+}
+
 nlohmann::json toJson(const SegmentationParams& params) {
   nlohmann::json json;
   for (const Entry& entry : entries()) {

@@ -30,6 +30,21 @@ TEST(CliSegment, WritesTheResultFolderAndEvalScoresIt) {
   EXPECT_GT(scores.at("planes").at("recall").get<double>(), 0.8);
 }
 
+TEST(CliSegment, AChangedPresetIsReportedAsACustomRobot) {
+  test::TemporaryDirectory directory;
+  const auto scan = (directory / "g.pcd").string();
+  ASSERT_EQ(runCli("simulate garage --lines 20 -o " + shellQuote(scan)).exit_code, 0);
+  for (const auto& [options, name] :
+       {std::pair{std::string(" --robot-width 0.85"), std::string("LMF smallest")},
+        {" --robot-width 0.9 --robot-length 0.5", "custom"}}) {
+    const auto out = (directory / "out").string();
+    const auto result = runCli("segment " + shellQuote(scan) + " -o " + shellQuote(out) + options);
+    ASSERT_EQ(result.exit_code, 0) << result.err;
+    const auto report = nlohmann::json::parse(test::readBytes(directory / "out" / "report.json"));
+    EXPECT_EQ(report.at("robot").at("name").get<std::string>(), name) << options;
+  }
+}
+
 TEST(CliBench, TimesEveryStageOfEveryRun) {
   test::TemporaryDirectory directory;
   const auto scan = (directory / "g.pcd").string();

@@ -78,6 +78,22 @@ TEST(Params, BadValuesComeBackAsReadableReasons) {
   EXPECT_THROW(runPipeline(garage(20).scan, params), std::invalid_argument);
 }
 
+TEST(Params, APresetWithOtherSizesIsNamedCustom) {
+  for (const RobotParams& preset : robotPresets()) {
+    EXPECT_EQ(presetOrCustomName(preset), preset.name);
+    RobotParams changed = preset;
+    changed.width += 0.05;
+    EXPECT_EQ(presetOrCustomName(changed), "custom") << preset.name;
+    changed = preset;
+    changed.max_step = 0.05;
+    EXPECT_EQ(presetOrCustomName(changed), "custom") << preset.name;
+  }
+  RobotParams own = robotPresets().front();
+  own.name = "tracked carrier";
+  own.width = 0.6;
+  EXPECT_EQ(presetOrCustomName(own), "tracked carrier");
+}
+
 TEST(Params, LoadAndSaveUseFiles) {
   test::TemporaryDirectory directory;
   SegmentationParams params;

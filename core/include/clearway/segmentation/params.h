@@ -117,6 +117,9 @@ struct SegmentationParams {
 
 // Robot configurations the operator picks from.
 std::vector<RobotParams> robotPresets();
+// The robot's name as the operator should read it: "custom" when it carries a preset's name but
+// not that preset's sizes (a preset changed on the command line or in the panel), else its own.
+std::string presetOrCustomName(const RobotParams& robot);
 
 // JSON with the same nesting as the structs; unknown keys are reported, missing keys keep defaults.
 nlohmann::json toJson(const SegmentationParams& params);

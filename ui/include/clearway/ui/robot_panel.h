@@ -22,7 +22,13 @@ class RobotPanel : public QWidget {
   RobotParams robot() const;
   double maxSlopeDeg() const;
   void setMaxSlopeDeg(double degrees);
-  void setRobot(const RobotParams& robot);  // emits robotChanged once if anything changed
+  // Emits robotChanged once if anything changed. A preset's name with other sizes than the
+  // preset's is the operator's own robot: "custom".
+  void setRobot(const RobotParams& robot);
+  // setRobot for a robot asked for from outside (the command line): what is wrong with it, empty
+  // when the panel shows it as given. A size the engine refuses or outside the panel's ranges (its
+  // boxes would change it silently) is refused and the panel left as it was.
+  std::string takeRobot(const RobotParams& robot);
   // The parameters the robot is checked against (map resolution etc.); narrows the ranges.
   void setEngineParams(const SegmentationParams& params);
   // The smallest and largest value the engine accepts for a dimension ("robot.width").
