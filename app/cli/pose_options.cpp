@@ -42,7 +42,6 @@ LoadedScan loadScanWithPose(const std::filesystem::path& file, const Arguments& 
 std::string describePose(const PoseResolution& pose) {
   std::string text = "pose: " + std::string(poseSourceName(pose.source));
   if (!pose.detail.empty()) text += " (" + pose.detail + ")";
-  if (pose.source == PoseSource::kNone) text += "; none in the file, beside it or given";
   return text;
 }
 

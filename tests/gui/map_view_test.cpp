@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "clearway/ui/main_window.h"
+#include "clearway/ui/map_drawing.h"
 #include "clearway/ui/map_picture.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/palette.h"
@@ -59,6 +60,17 @@ class MapViewTest : public QObject {
   void cleanupTestCase() { window_.reset(); }
 
   // Defect 5: the robot is drawn at its pose with its heading (white arrow along map +x).
+  // The 3D view's grid labels: a KITTI frame's 100 m at 5 m ran into one another at 1366 x 768.
+  void gridLabelsTakeARoundStepThatKeepsThemFew() {
+    QCOMPARE(clearway::ui::roundStep(8.0, 12.0), 1.0);
+    QCOMPARE(clearway::ui::roundStep(16.0, 12.0), 2.0);
+    QCOMPARE(clearway::ui::roundStep(100.0, 12.0), 10.0);
+    QCOMPARE(clearway::ui::roundStep(450.0, 12.0), 50.0);
+    QCOMPARE(clearway::ui::roundStep(0.0, 12.0), 1.0);
+    QCOMPARE(clearway::ui::roundStep(std::nan(""), 12.0), 1.0);
+    QCOMPARE(clearway::ui::roundStep(HUGE_VAL, 12.0), 1.0);
+  }
+
   void theMapShowsTheRobotAndItsHeading() {
     MapView* map = window_->mapView();
     // The engine's own pose is wired and checked in gui_pose_tests; here the drawing, at a pose

@@ -31,6 +31,13 @@ QPolygonF footprint(const QTransform& map_to_picture, const PathPose& pose,
 
 }  // namespace
 
+double roundStep(double extent, double parts) {
+  if (!std::isfinite(extent) || !(parts >= 1.0)) return 1.0;
+  for (double decade = 1.0;; decade *= 10.0)
+    for (const double step : {decade, 2 * decade, 5 * decade})
+      if (extent / step <= parts) return step;
+}
+
 QTransform mapToPicture(double pixels_per_metre, QPointF origin) {
   return QTransform(pixels_per_metre, 0, 0, -pixels_per_metre, origin.x(), origin.y());
 }

@@ -30,8 +30,9 @@ constexpr std::size_t kMaxDisplayedPoints = 400'000;
 constexpr std::size_t kExtentSamples = 20'000;
 // The grid lies this far below the ground so it never flickers through the ground triangles.
 constexpr double kGridDrop = 0.02;
-// Grid labels every metre up to this many metres of extent, then every 5 m.
-constexpr double kDenseLabelExtent = 16.0;
+// At most this many grid labels along an axis: a KITTI frame's 100 m at 5 m steps ran its labels
+// into one another ("-45 m40 m35 m...") in a top view at 1366 x 768.
+constexpr double kMaxLabelsPerAxis = 12.0;
 // Grid labels float this far above the ground so the ground never hides them [m].
 constexpr double kLabelLift = 0.1;
 // Footprints along the path every this many metres.
@@ -101,14 +102,19 @@ double percentile(std::vector<double>& values, double fraction) {
   return values[k];
 }
 
+// Where a label's text lies from its anchor.
+enum class Anchor { kCentre, kTextRightOfIt, kTextAboveIt };
+
 vtkSmartPointer<vtkProp> label3d(const QString& text, const Eigen::Vector3d& at, QColor colour,
-                                 int size = 13) {
+                                 int size = 13, Anchor anchor = Anchor::kCentre) {
   auto label = vtkSmartPointer<vtkBillboardTextActor3D>::New();
   label->SetInput(text.toUtf8().constData());
   label->SetPosition(at.x(), at.y(), at.z());
   label->GetTextProperty()->SetFontSize(size);
   label->GetTextProperty()->SetColor(colour.redF(), colour.greenF(), colour.blueF());
   label->GetTextProperty()->SetJustificationToCentered();
+  if (anchor == Anchor::kTextRightOfIt) label->GetTextProperty()->SetJustificationToLeft();
+  if (anchor == Anchor::kTextAboveIt) label->GetTextProperty()->SetVerticalJustificationToBottom();
   // A billboard's bounds are only known once it has been drawn: left out of the camera's
   // clipping range and framing, they cannot clip the scene away.
   label->UseBoundsOff();
@@ -227,12 +233,18 @@ std::vector<vtkSmartPointer<vtkProp>> gridProps(const Bounds& bounds) {
     lines.cells->InsertNextCell(2, ids);
   }
   std::vector<vtkSmartPointer<vtkProp>> props{lines.actor(true)};
-  const double step = std::max(x1 - x0, y1 - y0) > kDenseLabelExtent ? 5.0 : 1.0;
+  const double step = roundStep(std::max(x1 - x0, y1 - y0), kMaxLabelsPerAxis);
   const QColor text(200, 200, 210);
+  // Inside the grid's edges: centred on its edge, the outermost labels lost their first characters
+  // (a minus sign) where the view ends with the grid.
   for (double x = std::ceil(x0 / step) * step; x <= x1; x += step)
-    if (x != 0.0) props.push_back(label3d(QString("%1 m").arg(x), {x, y0, kLabelLift}, text, 12));
+    if (x != 0.0)
+      props.push_back(
+          label3d(QString("%1 m").arg(x), {x, y0, kLabelLift}, text, 12, Anchor::kTextAboveIt));
   for (double y = std::ceil(y0 / step) * step; y <= y1; y += step)
-    if (y != 0.0) props.push_back(label3d(QString("%1 m").arg(y), {x0, y, kLabelLift}, text, 12));
+    if (y != 0.0)
+      props.push_back(
+          label3d(QString("%1 m").arg(y), {x0, y, kLabelLift}, text, 12, Anchor::kTextRightOfIt));
   return props;
 }
 
