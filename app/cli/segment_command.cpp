@@ -44,9 +44,14 @@ int runSegment(const std::vector<std::string>& words) {
   if (!arguments.flag("quiet")) {
     std::cout << describePose(loaded.pose) << "\n";
     std::cout << "ground found: " << (result.trusted() ? "yes" : "NO") << "\n";
-    if (result.analysis->pose_source == PoseSource::kEstimated && result.trusted())
+    // The console draws nothing traversable until the operator confirms an estimated up
+    // direction; a batch run writes the map, and says on every answer that it rests on it.
+    const bool estimated =
+        result.analysis->pose_source == PoseSource::kEstimated && result.trusted();
+    if (estimated)
       std::cout << "up direction: estimated from the scan (confidence "
-                << result.analysis->up_confidence << ")\n";
+                << result.analysis->up_confidence
+                << "): the map holds only if it is right; give --up or --pose to be sure\n";
     // With ground found, a reason says why nothing is green (too sparse, or fits nowhere).
     if (!result.reason.empty()) std::cout << "reason: " << result.reason << "\n";
     std::cout << "planes: " << result.analysis->planes.planes.size() << " ("
@@ -60,6 +65,7 @@ int runSegment(const std::vector<std::string>& words) {
     if (!result.map.reach_limit.empty()) std::cout << "reach: " << result.map.reach_limit << "\n";
     if (result.goal)
       std::cout << "goal: " << (result.goal->reachable ? "reachable" : "NOT reachable")
+                << (estimated ? " (if the estimated up direction is right)" : "")
                 << (result.goal->reachable
                         ? ", path " + std::to_string(result.goal->length_m) + " m"
                         : ": " + result.goal->reason)

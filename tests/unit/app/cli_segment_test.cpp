@@ -45,6 +45,21 @@ TEST(CliSegment, AChangedPresetIsReportedAsACustomRobot) {
   }
 }
 
+// The console withholds green until an estimated up direction is confirmed; the CLI writes the map
+// but says on the goal's answer that it rests on the estimate.
+TEST(CliSegment, AnAnswerFromAnEstimatedUpDirectionSaysSo) {
+  CLEARWAY_REAL_SCAN_OR_SKIP(scan, "octomap-stairs/scan.dat");
+  test::TemporaryDirectory directory;
+  const auto out = (directory / "out").string();
+  const auto estimated =
+      runCli("segment " + shellQuote(scan.string()) + " -o " + shellQuote(out) + " --goal 3,0");
+  ASSERT_EQ(estimated.exit_code, 0) << estimated.err;
+  EXPECT_NE(estimated.out.find("up direction: estimated"), std::string::npos) << estimated.out;
+  EXPECT_NE(estimated.out.find("goal: reachable (if the estimated up direction is right)"),
+            std::string::npos)
+      << estimated.out;
+}
+
 TEST(CliBench, TimesEveryStageOfEveryRun) {
   test::TemporaryDirectory directory;
   const auto scan = (directory / "g.pcd").string();
