@@ -1,7 +1,3 @@
-#include <fcntl.h>
-#include <unistd.h>
-
-#include <csignal>
 #include <iostream>
 #include <stdexcept>
 
@@ -14,6 +10,7 @@
 #include "clearway/io/scan_error.h"
 #include "commands.h"
 #include "mount_options.h"
+#include "stop_signals.h"
 
 namespace clearway::cli {
 namespace {
@@ -21,46 +18,6 @@ namespace {
 constexpr const char* kUsage =
     "clearway-cli acquire --lms PORT --turntable PORT [--arm PORT] [--mount POSE] [--lines N] "
     "-o SCAN.pcd, or acquire --recover SCAN.journal -o SCAN.pcd";
-
-// SIGINT/SIGTERM during a scan: the handler only records the signal and writes a byte into a
-// pipe the acquisition polls (both async-signal-safe); the acquisition then stops the devices and
-// the partial scan is saved outside the handler.
-int stop_pipe[2] = {-1, -1};
-volatile std::sig_atomic_t stop_signal = 0;
-
-void onStopSignal(int signal_number) {
-  stop_signal = signal_number;
-  const char byte = 1;
-  [[maybe_unused]] const ssize_t ignored = ::write(stop_pipe[1], &byte, 1);
-}
-
-// Installs the handlers for the life of the object and restores the previous ones after.
-class StopSignals {
- public:
-  StopSignals() {
-    if (::pipe2(stop_pipe, O_CLOEXEC | O_NONBLOCK) != 0)
-      throw std::runtime_error("cannot create a pipe for the stop signals");
-    struct sigaction action {};
-    action.sa_handler = onStopSignal;
-    sigemptyset(&action.sa_mask);
-    ::sigaction(SIGINT, &action, &previous_int_);
-    ::sigaction(SIGTERM, &action, &previous_term_);
-  }
-  ~StopSignals() {
-    ::sigaction(SIGINT, &previous_int_, nullptr);
-    ::sigaction(SIGTERM, &previous_term_, nullptr);
-    ::close(stop_pipe[0]);
-    ::close(stop_pipe[1]);
-    stop_pipe[0] = stop_pipe[1] = -1;
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-  int descriptor() const { return stop_pipe[0]; }
-
- private:
-  struct sigaction previous_int_ {};
-  struct sigaction previous_term_ {};
-};
 
 // Saves what the acquisition holds; the journal is removed only once the scan is safely on disk.
 int finish(const hardware::Acquisition& acquisition, const std::filesystem::path& output,
@@ -77,6 +34,14 @@ int finish(const hardware::Acquisition& acquisition, const std::filesystem::path
   if (!acquisition.journal_error.empty())
     std::cerr << "clearway-cli acquire: " << acquisition.journal_error << "\n";
   if (acquisition.scan.empty()) {
+    // Lines came but none could be placed (no turntable angle, say): the journal holds them as
+    // they came, so it stays.
+    if (acquisition.lines_received > 0 && std::filesystem::exists(journal)) {
+      std::cerr << "clearway-cli acquire: no line could be placed in a scan; the "
+                << acquisition.lines_received << " lines received are kept as they came in "
+                << journal.string() << " (move it away before acquiring to this name again)\n";
+      return 1;
+    }
     std::filesystem::remove(journal);
     return 1;
   }
@@ -153,9 +118,9 @@ int runAcquire(const std::vector<std::string>& words) {
   options.stop_fd = signals.descriptor();
   hardware::Acquisition acquisition = hardware::acquireRosiScan(*lms, *table, options);
   if (acquisition.stopped)
-    acquisition.error =
-        std::string("interrupted by ") + (stop_signal == SIGTERM ? "SIGTERM" : "SIGINT") +
-        ": the devices were stopped after " + std::to_string(acquisition.lines_received) + " lines";
+    acquisition.error = std::string("interrupted by ") + signals.lastSignalName() +
+                        ": the devices were stopped after " +
+                        std::to_string(acquisition.lines_received) + " lines";
   if (!std::filesystem::exists(journal) && acquisition.lines_received == 0 &&
       !acquisition.error.empty()) {
     // Refused before streaming (busy port, a journal left by a crash, no device): nothing to save.
@@ -167,10 +132,15 @@ int runAcquire(const std::vector<std::string>& words) {
   } catch (const ScanError& error) {
     // A full disk, say: the journal still holds every line received.
     std::cerr << "clearway-cli acquire: " << error.what() << "\n";
+    // The journal may have hit the same full disk: then it holds only the lines before that.
     if (std::filesystem::exists(journal))
-      std::cerr << "clearway-cli acquire: the lines are kept in " << journal.string()
-                << ": recover them with clearway-cli acquire --recover " << journal.string()
-                << " -o SCAN.pcd\n";
+      std::cerr << "clearway-cli acquire: "
+                << (acquisition.journal_error.empty()
+                        ? "the lines are kept in "
+                        : "the lines written before the journal failed (" +
+                              acquisition.journal_error + ") are kept in ")
+                << journal.string() << ": recover them with clearway-cli acquire --recover "
+                << journal.string() << " -o SCAN.pcd\n";
     return 1;
   }
 }

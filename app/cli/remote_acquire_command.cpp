@@ -1,15 +1,21 @@
 // clearway-cli acquire --remote HOST:PORT --credentials DIR: one scan from `clearway-cli serve` on
 // the robot, through the same RemoteRosi the console uses (reconnects and resumes by itself).
 
+#include <unistd.h>
+
 #include <QCoreApplication>
 #include <QElapsedTimer>
+#include <QSocketNotifier>
+#include <QTimer>
 #include <iostream>
 
 #include "arguments.h"
+#include "clearway/hardware/acquisition_files.h"
 #include "clearway/hardware/remote_rosi.h"
 #include "clearway/io/scan_io.h"
 #include "commands.h"
 #include "host_port.h"
+#include "stop_signals.h"
 
 namespace clearway::cli {
 
@@ -25,6 +31,9 @@ int runRemoteAcquire(const std::vector<std::string>& words) {
   const auto credentials_dir = arguments.option("credentials");
   if (!output || !credentials_dir)
     throw UsageError("--credentials DIR and -o SCAN.pcd are required with --remote");
+  // Checked before anything starts, as for a serial acquisition: a typo never costs a scan.
+  if (const std::string problem = hardware::checkOutputPath(*output); !problem.empty())
+    throw UsageError(problem);
   const auto [host, port] = parseHostPort(*arguments.option("remote"), false);
 
   RemoteOptions options;
@@ -58,8 +67,10 @@ int runRemoteAcquire(const std::vector<std::string>& words) {
   QObject::connect(&rosi, &RemoteRosi::notice, [](const QString& text) {
     std::cerr << "robot: " << text.toStdString() << std::endl;
   });
+  // Once interrupted, that is the reason (the robot's "cancelled" follows from it).
+  bool interrupted = false;
   QObject::connect(&rosi, &RemoteRosi::failed, [&](const QString& reason) {
-    last_failure = reason;
+    if (!interrupted) last_failure = reason;
     if (rosi.state() != hardware::ScannerDevice::State::kScanning) app.exit();
   });
   QObject::connect(&rosi, &RemoteRosi::stateChanged, [&](hardware::ScannerDevice::State state) {
@@ -69,6 +80,44 @@ int runRemoteAcquire(const std::vector<std::string>& words) {
       clock.invalidate();
       rosi.startScan(request);
     }
+  });
+  // The lines so far: what is kept if the robot cannot answer a stop.
+  std::shared_ptr<const Scan> so_far;
+  QObject::connect(&rosi, &RemoteRosi::linesArrived,
+                   [&](std::shared_ptr<const Scan> lines) { so_far = std::move(lines); });
+  auto keepPartial = [&](const Scan& scan) {
+    if (scan.empty()) return;
+    const std::filesystem::path partial = hardware::partialPathFor(*output);
+    saveRosiPcd(scan, partial);
+    std::cerr << "clearway-cli acquire: the " << scan.lines.size() << " lines that arrived are in "
+              << partial.string() << "\n";
+  };
+  // Ctrl-C or SIGTERM: the robot is told to stop and answers with the lines it has, which are
+  // kept; without an answer in kStopAnswerMs (the link is down), the lines received so far are.
+  constexpr int kStopAnswerMs = 10'000;
+  const StopSignals stop_signals;
+  QSocketNotifier stop_notifier(stop_signals.descriptor(), QSocketNotifier::Read);
+  QObject::connect(&stop_notifier, &QSocketNotifier::activated, [&] {
+    char byte = 0;
+    while (::read(stop_signals.descriptor(), &byte, 1) == 1) {
+    }
+    interrupted = true;
+    last_failure = QString("interrupted by %1").arg(stop_signals.lastSignalName());
+    if (rosi.state() != hardware::ScannerDevice::State::kScanning) {
+      app.exit();
+      return;
+    }
+    std::cerr << "clearway-cli acquire: " << stop_signals.lastSignalName()
+              << ": asking the robot to stop the scan" << std::endl;
+    rosi.cancelScan();
+    QTimer::singleShot(kStopAnswerMs, &app, [&] {
+      try {
+        if (so_far) keepPartial(*so_far);
+      } catch (const std::exception& error) {
+        std::cerr << "clearway-cli acquire: " << error.what() << "\n";
+      }
+      app.exit();
+    });
   });
   QObject::connect(
       &rosi, &RemoteRosi::scanFinished, [&](std::shared_ptr<const Scan> scan, bool complete) {
@@ -81,12 +130,8 @@ int runRemoteAcquire(const std::vector<std::string>& words) {
                       << " bytes received, " << stats.reconnections << " reconnections, "
                       << stats.duplicate_lines_dropped << " repeated lines dropped)" << std::endl;
             exit_code = 0;
-          } else if (!scan->empty()) {
-            std::filesystem::path partial = *output;
-            partial.replace_extension(".partial.pcd");
-            saveRosiPcd(*scan, partial);
-            std::cerr << "clearway-cli acquire: the " << scan->lines.size()
-                      << " lines that arrived are in " << partial.string() << "\n";
+          } else {
+            keepPartial(*scan);
           }
         } catch (const std::exception& error) {
           std::cerr << "clearway-cli acquire: " << error.what() << "\n";

@@ -45,6 +45,12 @@ std::string checkOutputPath(const std::filesystem::path& scan) {
     return "the folder " + folder.string() + " for " + scan.string() + " is not writable";
   if (std::filesystem::is_directory(scan, error))
     return scan.string() + " is a folder, not a file name";
+  // An acquired scan is never written over, complete or partial.
+  for (const std::filesystem::path& existing : {scan, partialPathFor(scan)})
+    if (std::filesystem::exists(existing, error))
+      return existing.string() +
+             " exists: a scan already acquired is never written over; give another name or move "
+             "it away";
   return {};
 }
 

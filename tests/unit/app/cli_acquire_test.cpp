@@ -331,6 +331,19 @@ TEST(CliAcquire, ABadOutputOrBaudFailsBeforeAnyScan) {
   const auto fast = runCli("acquire" + ports(emulator) + " --baud 500000 --lines 10 -o " +
                            shellQuote((directory / "fast.pcd").string()));
   EXPECT_EQ(fast.exit_code, 0) << fast.err;
+  // A scan already acquired, complete or partial, is never written over (it was, silently).
+  const std::string before = test::readBytes(directory / "fast.pcd");
+  const auto again = runCli("acquire" + ports(emulator) + " --lines 10 -o " +
+                            shellQuote((directory / "fast.pcd").string()));
+  EXPECT_EQ(again.exit_code, 2);
+  EXPECT_NE(again.err.find("never written over"), std::string::npos) << again.err;
+  EXPECT_EQ(test::readBytes(directory / "fast.pcd"), before);
+  test::writeBytes(directory / "cut.partial.pcd", "lines kept from an interrupted scan");
+  const auto beside_partial = runCli("acquire" + ports(emulator) + " --lines 10 -o " +
+                                     shellQuote((directory / "cut.pcd").string()));
+  EXPECT_EQ(beside_partial.exit_code, 2);
+  EXPECT_NE(beside_partial.err.find("cut.partial.pcd"), std::string::npos) << beside_partial.err;
+  EXPECT_EQ(test::readBytes(directory / "cut.partial.pcd"), "lines kept from an interrupted scan");
 }
 
 TEST(CliAcquire, ASecondAcquireOnTheSamePortsIsToldTheyAreBusy) {
@@ -348,6 +361,23 @@ TEST(CliAcquire, ASecondAcquireOnTheSamePortsIsToldTheyAreBusy) {
   first.signal(SIGINT);
   EXPECT_EQ(first.wait(), 1);
   EXPECT_NE(first.err().find("interrupted by SIGINT"), std::string::npos) << first.err();
+}
+
+// A turntable that sends no angle: the lines that came cannot be placed, and the journal that
+// holds them as they came is kept (it was deleted with them).
+TEST(CliAcquire, LinesWithoutAnAngleAreKeptInTheJournal) {
+  test::TemporaryDirectory directory;
+  hardware::RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  emulator.muteAngles(true);
+  const auto muted = runCli("acquire" + ports(emulator) + " --lines 100 --timeout 500 -o " +
+                            shellQuote((directory / "muted.pcd").string()));
+  EXPECT_EQ(muted.exit_code, 1);
+  EXPECT_NE(muted.err.find("turntable"), std::string::npos) << muted.err;
+  ASSERT_GT(emulator.linesSent(), 0u);  // the laser streamed; only the angles were missing
+  EXPECT_TRUE(fs::exists(directory / "muted.journal")) << muted.err;
+  EXPECT_GT(journaledLines(directory / "muted.journal"), 0u);
+  EXPECT_NE(muted.err.find("kept as they came"), std::string::npos) << muted.err;
+  EXPECT_FALSE(fs::exists(directory / "muted.pcd"));
 }
 
 TEST(CliAcquire, DroppedLinesAreReportedAndTheScanIsNotCalledComplete) {

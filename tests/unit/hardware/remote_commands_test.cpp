@@ -1,5 +1,7 @@
 // clearway-cli serve and acquire --remote as processes, as an operator runs them.
 
+#include <QThread>
+
 #include "remote_test_support.h"
 
 namespace clearway::hardware::remote {
@@ -61,6 +63,62 @@ TEST_F(RemoteCommands, AcquireRemoteWritesTheSimulatorsScan) {
     ASSERT_NEAR(got.points[i].z, expected.points[i].z, kWireResolutionM) << i;
   }
   EXPECT_EQ(QDir(dir_.filePath("robot")).entryList({"scan-*.pcd"}).size(), 1);
+}
+
+// Ctrl-C or SIGTERM on a remote scan: the robot is told to stop, and the lines that arrived are
+// kept (the process used to die with them, and the robot scanned on).
+TEST_F(RemoteCommands, SigtermOnARemoteScanKeepsTheLinesThatArrived) {
+  // A robot scanning in real time (the fixture's runs 50 times faster: done before a signal).
+  QProcess slow_serve;
+  slow_serve.start(CLEARWAY_CLI,
+                   {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0", "--simulate",
+                    "garage", "--storage", dir_.filePath("slow-robot")});
+  ASSERT_TRUE(slow_serve.waitForStarted(kWaitMs));
+  ASSERT_TRUE(
+      waitFor([&] { return slow_serve.canReadLine() || slow_serve.waitForReadyRead(100); }));
+  const int slow_port =
+      QString::fromUtf8(slow_serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0).toInt();
+  ASSERT_GT(slow_port, 0);
+  const QString output = dir_.filePath("cut.pcd");
+  QProcess acquire;
+  acquire.setProcessChannelMode(QProcess::SeparateChannels);
+  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", QString("127.0.0.1:%1").arg(slow_port),
+                               "--credentials", credentials_, "--lines", "423", "-o", output});
+  ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
+  QString err;
+  ASSERT_TRUE(waitFor([&] {
+    acquire.waitForReadyRead(100);
+    err += QString::fromUtf8(acquire.readAllStandardError());
+    return err.contains("link: ");
+  }));
+  QThread::msleep(2500);  // lines stream
+  acquire.terminate();    // SIGTERM
+  ASSERT_TRUE(acquire.waitForFinished(kWaitMs));
+  err += QString::fromUtf8(acquire.readAllStandardError());
+  slow_serve.terminate();
+  slow_serve.waitForFinished(kWaitMs);
+  EXPECT_EQ(acquire.exitStatus(), QProcess::NormalExit) << err.toStdString();
+  EXPECT_EQ(acquire.exitCode(), 1) << err.toStdString();
+  EXPECT_TRUE(err.contains("interrupted by SIGTERM")) << err.toStdString();
+  EXPECT_FALSE(QFile::exists(output));
+  const QString partial = dir_.filePath("cut.partial.pcd");
+  ASSERT_TRUE(QFile::exists(partial)) << err.toStdString();
+  LoadOptions load;
+  load.self_hit_radius = 0.0;
+  const Scan kept = loadScan(partial.toStdString(), load);
+  EXPECT_GT(kept.lines.size(), 0u);
+  EXPECT_LT(kept.lines.size(), std::size_t(kGarageLines));
+}
+
+// The output is checked before the robot scans, as for a serial acquisition.
+TEST_F(RemoteCommands, AcquireRemoteChecksItsOutputBeforeScanning) {
+  QString err;
+  EXPECT_EQ(acquire({"--credentials", credentials_, "-o", dir_.filePath("none/x.pcd")}, &err), 2);
+  EXPECT_TRUE(err.contains("does not exist")) << err.toStdString();
+  EXPECT_EQ(acquire({"--credentials", credentials_, "-o", dir_.filePath("x.txt")}, &err), 2);
+  EXPECT_TRUE(err.contains(".pcd")) << err.toStdString();
+  EXPECT_FALSE(QDir(dir_.filePath("robot")).exists() &&
+               !QDir(dir_.filePath("robot")).entryList({"scan-*.pcd"}).isEmpty());
 }
 
 TEST_F(RemoteCommands, AcquireRemoteWithWrongCredentialsFailsWithTheReason) {

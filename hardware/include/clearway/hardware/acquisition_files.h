@@ -18,7 +18,8 @@ std::filesystem::path poseSidecarPathFor(const std::filesystem::path& scan);  //
 std::filesystem::path reportPathFor(const std::filesystem::path& scan);  // SCAN.acquisition.json
 
 // Checked before scanning, so no scan is lost to a typo: the name ends in .pcd, its folder
-// exists, is a folder and is writable. Empty when fine, else the reason naming the path.
+// exists, is a folder and is writable, and neither the scan nor its SCAN.partial.pcd exists (an
+// acquired scan is never written over). Empty when fine, else the reason naming the path.
 std::string checkOutputPath(const std::filesystem::path& scan);
 
 // {"version":1, "world_from_scanner": {"translation":[x,y,z], "rotation_wxyz":[w,x,y,z]},
