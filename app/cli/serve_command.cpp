@@ -31,6 +31,8 @@ void requestStop(int) {
   stop_requested = true;
 }
 constexpr int kStopPollMs = 100;  // how often the event loop looks at the signal flag
+// Asked to stop during a scan, serve cancels it and waits this long for its lines to be saved.
+constexpr int kStopScanMs = 5000;
 
 int initOnly(const std::string& dir) {
   try {
@@ -134,12 +136,26 @@ int runServe(const std::vector<std::string>& words) {
   std::signal(SIGINT, requestStop);
   std::signal(SIGTERM, requestStop);
   const double seconds = arguments.number("seconds", 0.0, 0.0, 1e7);  // 0 = until interrupted
+  // Stopping (a signal, or --seconds) during a scan: the scan is cancelled and the server saves
+  // the lines it has (scan-ID-partial.pcd) before serve ends; it used to end with them.
+  bool stopping = false;
   QTimer stop_poll;
   QObject::connect(&stop_poll, &QTimer::timeout, &app, [&] {
-    if (stop_requested) app.quit();
+    if (!stop_requested || stopping) return;
+    stopping = true;
+    if (device->state() != hardware::ScannerDevice::State::kScanning) {
+      app.quit();
+      return;
+    }
+    log("stopping: the scan under way is cancelled and its lines saved first");
+    // After the server's own slot (connected first), which saves the scan.
+    QObject::connect(device.get(), &hardware::ScannerDevice::scanFinished, &app,
+                     [&] { QTimer::singleShot(0, &app, &QCoreApplication::quit); });
+    device->cancelScan();
+    QTimer::singleShot(kStopScanMs, &app, &QCoreApplication::quit);
   });
   stop_poll.start(kStopPollMs);
-  if (seconds > 0) QTimer::singleShot(int(seconds * 1000), &app, &QCoreApplication::quit);
+  if (seconds > 0) QTimer::singleShot(int(seconds * 1000), &app, [] { stop_requested = true; });
   app.exec();
   const ServerStatistics stats = server.statistics();
   log(QString("stopped: %1 connections accepted, %2 refused, %3 scans")

@@ -110,6 +110,45 @@ TEST_F(RemoteCommands, SigtermOnARemoteScanKeepsTheLinesThatArrived) {
   EXPECT_LT(kept.lines.size(), std::size_t(kGarageLines));
 }
 
+// serve stopped during a scan cancels it and saves the lines it has before it ends (it used to end
+// with them).
+TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
+  QProcess slow_serve;
+  slow_serve.start(CLEARWAY_CLI,
+                   {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0", "--simulate",
+                    "garage", "--storage", dir_.filePath("slow-robot")});
+  ASSERT_TRUE(slow_serve.waitForStarted(kWaitMs));
+  ASSERT_TRUE(
+      waitFor([&] { return slow_serve.canReadLine() || slow_serve.waitForReadyRead(100); }));
+  const int slow_port =
+      QString::fromUtf8(slow_serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0).toInt();
+  ASSERT_GT(slow_port, 0);
+  QProcess acquire;
+  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", QString("127.0.0.1:%1").arg(slow_port),
+                               "--credentials", credentials_, "--lines", "423", "--give-up", "3",
+                               "-o", dir_.filePath("client.pcd")});
+  ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
+  QString err;
+  ASSERT_TRUE(waitFor([&] {
+    acquire.waitForReadyRead(100);
+    err += QString::fromUtf8(acquire.readAllStandardError());
+    return err.contains("link: connected");
+  })) << err.toStdString();
+  QThread::msleep(2500);  // lines stream
+  slow_serve.terminate();
+  ASSERT_TRUE(slow_serve.waitForFinished(kWaitMs));
+  const QString log = QString::fromUtf8(slow_serve.readAllStandardError());
+  acquire.waitForFinished(kWaitMs);
+  const QStringList saved = QDir(dir_.filePath("slow-robot")).entryList({"scan-*-partial.pcd"});
+  ASSERT_EQ(saved.size(), 1) << log.toStdString();
+  LoadOptions load;
+  load.self_hit_radius = 0.0;
+  const Scan kept =
+      loadScan(QDir(dir_.filePath("slow-robot")).filePath(saved.front()).toStdString(), load);
+  EXPECT_GT(kept.lines.size(), 0u);
+  EXPECT_LT(kept.lines.size(), std::size_t(kGarageLines));
+}
+
 // The output is checked before the robot scans, as for a serial acquisition.
 TEST_F(RemoteCommands, AcquireRemoteChecksItsOutputBeforeScanning) {
   QString err;
