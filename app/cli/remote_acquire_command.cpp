@@ -74,11 +74,17 @@ int runRemoteAcquire(const std::vector<std::string>& words) {
     if (rosi.state() != hardware::ScannerDevice::State::kScanning) app.exit();
   });
   QObject::connect(&rosi, &RemoteRosi::stateChanged, [&](hardware::ScannerDevice::State state) {
-    // A watcher waits for the controlling console's scan; a controller starts one.
-    if (state == hardware::ScannerDevice::State::kIdle && rosi.role() == Role::kControl &&
-        clock.isValid()) {
-      clock.invalidate();
+    // A watcher waits for the controlling console's scan; a controller starts one. Asked for
+    // control and given watching (another console has it), nothing would ever start: say so.
+    if (state != hardware::ScannerDevice::State::kIdle || !clock.isValid()) return;
+    clock.invalidate();
+    if (rosi.role() == Role::kControl) {
       rosi.startScan(request);
+    } else if (options.role == Role::kControl) {
+      last_failure =
+          "another console controls the scanner: no scan started (with --watch, its "
+          "scan is received instead)";
+      app.exit();
     }
   });
   // The lines so far: what is kept if the robot cannot answer a stop.

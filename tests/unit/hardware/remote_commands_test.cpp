@@ -149,6 +149,42 @@ TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
   EXPECT_LT(kept.lines.size(), std::size_t(kGarageLines));
 }
 
+// A second console asking for control while one has it is told so at once (it waited forever).
+TEST_F(RemoteCommands, ASecondControllerIsToldAnotherConsoleControls) {
+  QProcess slow_serve;
+  slow_serve.start(CLEARWAY_CLI,
+                   {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0", "--simulate",
+                    "garage", "--storage", dir_.filePath("slow-robot")});
+  ASSERT_TRUE(slow_serve.waitForStarted(kWaitMs));
+  ASSERT_TRUE(
+      waitFor([&] { return slow_serve.canReadLine() || slow_serve.waitForReadyRead(100); }));
+  const QString robot =
+      "127.0.0.1:" +
+      QString::fromUtf8(slow_serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  QProcess first;
+  first.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_, "--lines",
+                             "423", "-o", dir_.filePath("first.pcd")});
+  ASSERT_TRUE(first.waitForStarted(kWaitMs));
+  QString first_err;
+  ASSERT_TRUE(waitFor([&] {
+    first.waitForReadyRead(100);
+    first_err += QString::fromUtf8(first.readAllStandardError());
+    return first_err.contains("in control");
+  })) << first_err.toStdString();
+  QProcess second;
+  second.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
+                              "--lines", "40", "-o", dir_.filePath("second.pcd")});
+  ASSERT_TRUE(second.waitForFinished(kWaitMs));
+  const QString err = QString::fromUtf8(second.readAllStandardError());
+  EXPECT_EQ(second.exitCode(), 1) << err.toStdString();
+  EXPECT_TRUE(err.contains("another console controls the scanner")) << err.toStdString();
+  EXPECT_FALSE(QFile::exists(dir_.filePath("second.pcd")));
+  first.terminate();
+  first.waitForFinished(kWaitMs);
+  slow_serve.terminate();
+  slow_serve.waitForFinished(kWaitMs);
+}
+
 // The output is checked before the robot scans, as for a serial acquisition.
 TEST_F(RemoteCommands, AcquireRemoteChecksItsOutputBeforeScanning) {
   QString err;
