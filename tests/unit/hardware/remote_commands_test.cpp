@@ -39,6 +39,19 @@ class RemoteCommands : public ::testing::Test {
     return acquire.exitCode();
   }
 
+  // Starts a serve of its own scanning in real time (the fixture's runs 50 times faster, done
+  // before a test can interrupt it), saving into `storage`; its HOST:PORT, empty on failure.
+  QString startRealTimeRobot(QProcess& serve, const QString& storage) {
+    serve.start(CLEARWAY_CLI, {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0",
+                               "--simulate", "garage", "--storage", dir_.filePath(storage)});
+    if (!serve.waitForStarted(kWaitMs) ||
+        !waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }))
+      return {};
+    const QString port =
+        QString::fromUtf8(serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+    return port.toInt() > 0 ? "127.0.0.1:" + port : QString();
+  }
+
   QTemporaryDir dir_;
   QString credentials_;
   QProcess serve_;
@@ -68,22 +81,14 @@ TEST_F(RemoteCommands, AcquireRemoteWritesTheSimulatorsScan) {
 // Ctrl-C or SIGTERM on a remote scan: the robot is told to stop, and the lines that arrived are
 // kept (the process used to die with them, and the robot scanned on).
 TEST_F(RemoteCommands, SigtermOnARemoteScanKeepsTheLinesThatArrived) {
-  // A robot scanning in real time (the fixture's runs 50 times faster: done before a signal).
   QProcess slow_serve;
-  slow_serve.start(CLEARWAY_CLI,
-                   {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0", "--simulate",
-                    "garage", "--storage", dir_.filePath("slow-robot")});
-  ASSERT_TRUE(slow_serve.waitForStarted(kWaitMs));
-  ASSERT_TRUE(
-      waitFor([&] { return slow_serve.canReadLine() || slow_serve.waitForReadyRead(100); }));
-  const int slow_port =
-      QString::fromUtf8(slow_serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0).toInt();
-  ASSERT_GT(slow_port, 0);
+  const QString robot = startRealTimeRobot(slow_serve, "slow-robot");
+  ASSERT_FALSE(robot.isEmpty());
   const QString output = dir_.filePath("cut.pcd");
   QProcess acquire;
   acquire.setProcessChannelMode(QProcess::SeparateChannels);
-  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", QString("127.0.0.1:%1").arg(slow_port),
-                               "--credentials", credentials_, "--lines", "423", "-o", output});
+  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
+                               "--lines", "423", "-o", output});
   ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
   QString err;
   ASSERT_TRUE(waitFor([&] {
@@ -114,19 +119,12 @@ TEST_F(RemoteCommands, SigtermOnARemoteScanKeepsTheLinesThatArrived) {
 // with them).
 TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
   QProcess slow_serve;
-  slow_serve.start(CLEARWAY_CLI,
-                   {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0", "--simulate",
-                    "garage", "--storage", dir_.filePath("slow-robot")});
-  ASSERT_TRUE(slow_serve.waitForStarted(kWaitMs));
-  ASSERT_TRUE(
-      waitFor([&] { return slow_serve.canReadLine() || slow_serve.waitForReadyRead(100); }));
-  const int slow_port =
-      QString::fromUtf8(slow_serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0).toInt();
-  ASSERT_GT(slow_port, 0);
+  const QString robot = startRealTimeRobot(slow_serve, "slow-robot");
+  ASSERT_FALSE(robot.isEmpty());
   QProcess acquire;
-  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", QString("127.0.0.1:%1").arg(slow_port),
-                               "--credentials", credentials_, "--lines", "423", "--give-up", "3",
-                               "-o", dir_.filePath("client.pcd")});
+  acquire.start(CLEARWAY_CLI,
+                {"acquire", "--remote", robot, "--credentials", credentials_, "--lines", "423",
+                 "--give-up", "3", "-o", dir_.filePath("client.pcd")});
   ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
   QString err;
   ASSERT_TRUE(waitFor([&] {
@@ -152,15 +150,8 @@ TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
 // A second console asking for control while one has it is told so at once (it waited forever).
 TEST_F(RemoteCommands, ASecondControllerIsToldAnotherConsoleControls) {
   QProcess slow_serve;
-  slow_serve.start(CLEARWAY_CLI,
-                   {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0", "--simulate",
-                    "garage", "--storage", dir_.filePath("slow-robot")});
-  ASSERT_TRUE(slow_serve.waitForStarted(kWaitMs));
-  ASSERT_TRUE(
-      waitFor([&] { return slow_serve.canReadLine() || slow_serve.waitForReadyRead(100); }));
-  const QString robot =
-      "127.0.0.1:" +
-      QString::fromUtf8(slow_serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  const QString robot = startRealTimeRobot(slow_serve, "slow-robot");
+  ASSERT_FALSE(robot.isEmpty());
   QProcess first;
   first.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_, "--lines",
                              "423", "-o", dir_.filePath("first.pcd")});
