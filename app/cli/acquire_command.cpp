@@ -130,9 +130,9 @@ int runAcquire(const std::vector<std::string>& words) {
   try {
     return finish(acquisition, output, journal, true);
   } catch (const ScanError& error) {
-    // A full disk, say: the journal still holds every line received.
+    // A full disk, say. The journal holds every line received, unless it hit the same full disk:
+    // then only the lines before that.
     std::cerr << "clearway-cli acquire: " << error.what() << "\n";
-    // The journal may have hit the same full disk: then it holds only the lines before that.
     if (std::filesystem::exists(journal))
       std::cerr << "clearway-cli acquire: "
                 << (acquisition.journal_error.empty()
