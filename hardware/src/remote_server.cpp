@@ -2,6 +2,7 @@
 
 #include <QDateTime>
 #include <QDir>
+#include <QFileInfo>
 #include <QPointer>
 #include <QSslConfiguration>
 #include <QSslPreSharedKeyAuthenticator>
@@ -356,9 +357,28 @@ void RemoteScanServer::Private::onResume(Session& s, const Resume& resume) {
   if (!scan) {
     ScanFinished unknown;
     unknown.scan_id = resume.scan_id;
-    unknown.reason = QString("The robot does not hold scan %1 any more (it keeps the last %2).")
-                         .arg(resume.scan_id)
-                         .arg(options.finished_scans_kept);
+    // Not in memory: the robot restarted, or the scan is older than those it keeps. Its file may
+    // still be on the robot's disk (a stopped robot saves the scan under way first).
+    QString saved;
+    for (const QString& suffix : {QString(), QString("-partial")}) {
+      const QString path = QDir(options.storage_dir)
+                               .filePath(QString("scan-%1%2.pcd").arg(resume.scan_id).arg(suffix));
+      if (saved.isEmpty() && QFileInfo::exists(path)) saved = path;
+    }
+    unknown.reason =
+        saved.isEmpty()
+            ? QString(
+                  "The robot does not hold scan %1: it restarted since, or keeps only the "
+                  "last %2 scans, and has no file of it.")
+                  .arg(resume.scan_id)
+                  .arg(options.finished_scans_kept)
+            : QString(
+                  "The robot no longer serves scan %1 (it restarted since, or keeps only the "
+                  "last %2 scans), but saved it as %3 on the robot.")
+                  .arg(resume.scan_id)
+                  .arg(options.finished_scans_kept)
+                  .arg(saved);
+    unknown.saved_as = saved;
     send(s, encode(unknown));
     return;
   }

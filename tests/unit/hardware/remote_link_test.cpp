@@ -357,6 +357,40 @@ TEST_F(RemoteLink, AnOldProtocolVersionIsRefusedWithTheReason) {
   EXPECT_TRUE(logMentions("protocol version 0"));
 }
 
+// A console resuming a scan the robot no longer holds (it restarted) is told where the robot saved
+// it, or that it has no file of it; it was told "it keeps the last 4", which was not why.
+TEST_F(RemoteLink, ResumingAScanTheRobotNoLongerHoldsSaysWhereItsFileIs) {
+  const QString storage = QDir(storage_.path()).filePath("robot-scans");
+  ASSERT_TRUE(QDir().mkpath(storage));
+  QFile saved(QDir(storage).filePath("scan-4242-partial.pcd"));
+  ASSERT_TRUE(saved.open(QIODevice::WriteOnly));
+  saved.close();
+  auto answerTo = [&](std::uint64_t scan_id) -> std::optional<ScanFinished> {
+    RawTlsClient client(server_->serverPort(), loadConsoleCredentials(credentials_dir_.path()));
+    if (!waitFor([&] { return client.socket().isEncrypted(); })) return std::nullopt;
+    client.socket().write(encodeFrame(encode(Hello{Role::kWatch, {}, "console"})));
+    client.socket().write(encodeFrame(encode(Resume{scan_id, 0})));
+    std::optional<ScanFinished> finished;
+    waitFor([&] {
+      FrameParser parser;
+      parser.feed(client.received());
+      while (const std::optional<Frame> frame = parser.next())
+        if (frame->type == MessageType::kScanFinished) finished = decodeScanFinished(*frame);
+      return finished.has_value();
+    });
+    return finished;
+  };
+  const std::optional<ScanFinished> kept = answerTo(4242);
+  ASSERT_TRUE(kept.has_value());
+  EXPECT_FALSE(kept->complete);
+  EXPECT_TRUE(kept->reason.contains("scan-4242-partial.pcd")) << kept->reason.toStdString();
+  EXPECT_TRUE(kept->saved_as.endsWith("scan-4242-partial.pcd")) << kept->saved_as.toStdString();
+  const std::optional<ScanFinished> gone = answerTo(77);
+  ASSERT_TRUE(gone.has_value());
+  EXPECT_TRUE(gone->reason.contains("has no file of it")) << gone->reason.toStdString();
+  EXPECT_TRUE(gone->saved_as.isEmpty());
+}
+
 TEST_F(RemoteLink, TheSameConsoleReconnectingTakesItsControlBack) {
   // Over a dead link the robot may not yet know the old connection is gone: the console's session
   // token lets its new connection take control, and the old one is closed.
