@@ -254,6 +254,13 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     const std::string so_far = " after " + std::to_string(result.lines_received) + " lines";
     if (done) break;
     if (interrupted()) break;
+    // A line that hung up (cable pulled, device gone) is said at once, after what it sent was
+    // read: the watchdog saw only silence after `timeout`, and blamed the device whose clock ran
+    // out first (the turntable, when the laser's cable was pulled).
+    if (fds[0].revents & (POLLHUP | POLLERR)) {
+      error = "the laser scanner's line hung up (cable pulled, or the device gone)" + so_far;
+      break;
+    }
     if (silent(last_line)) {
       error = "the laser scanner stopped answering" + so_far;
       break;

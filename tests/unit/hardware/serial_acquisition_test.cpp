@@ -86,7 +86,9 @@ TEST(SerialAcquisition, APulledCableKeepsWhatArrived) {
       });
   EXPECT_FALSE(acquisition.complete);
   EXPECT_GT(acquisition.scan.lines.size(), 0u);
-  EXPECT_FALSE(acquisition.error.empty());
+  // The laser is named, not the turntable whose watchdog ran out first.
+  EXPECT_NE(acquisition.error.find("laser scanner's line hung up"), std::string::npos)
+      << acquisition.error;
 }
 
 TEST(SerialAcquisition, RunsAt500kBaudAndRefusesSpeedsTheLms200DoesNotHave) {
