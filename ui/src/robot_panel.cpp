@@ -38,6 +38,14 @@ struct RobotPanel::Private {
   std::string name = "custom";
   SegmentationParams engine;  // the robot is checked against these
 
+  // The engine's first reason to refuse the robot of `params`, empty when it takes it (reasons
+  // about other parameters are another panel's).
+  static std::string robotReason(const SegmentationParams& params) {
+    for (const std::string& reason : params.validate())
+      if (reason.find("robot") != std::string::npos) return reason;
+    return {};
+  }
+
   // Candidate values of `key` on the slider's grid the engine accepts with the other dimensions
   // as they are; the dimension's own parameter-table range when none is (another problem).
   std::pair<double, double> accepted(const std::string& key, const RobotParams& robot) const {
@@ -49,10 +57,7 @@ struct RobotPanel::Private {
     for (int step = int(std::ceil(info.minimum * kSliderScale));
          step <= int(std::floor(top * kSliderScale)); ++step) {
       setParameterValue(params, key, step / kSliderScale);
-      bool robot_ok = true;
-      for (const std::string& reason : params.validate())
-        if (reason.find("robot") != std::string::npos) robot_ok = false;
-      if (!robot_ok) continue;
+      if (!robotReason(params).empty()) continue;
       range.first = std::min(range.first, step / kSliderScale);
       range.second = std::max(range.second, step / kSliderScale);
     }
@@ -192,8 +197,7 @@ void RobotPanel::setRobot(const RobotParams& given) {
 std::string RobotPanel::takeRobot(const RobotParams& robot) {
   SegmentationParams params = d_->engine;
   params.robot = robot;
-  for (const std::string& reason : params.validate())
-    if (reason.find("robot") != std::string::npos) return reason;
+  if (std::string reason = Private::robotReason(params); !reason.empty()) return reason;
   // Each size against the range the panel takes with the robot's other sizes.
   for (const Private::Dimension& dimension : d_->dimensions) {
     const double value = parameterValue(params, dimension.key);

@@ -52,6 +52,22 @@ class RemoteCommands : public ::testing::Test {
     return port.toInt() > 0 ? "127.0.0.1:" + port : QString();
   }
 
+  // Scan lines in a saved PCD (every return kept: none is the robot's own).
+  static std::size_t linesIn(const QString& path) {
+    LoadOptions load;
+    load.self_hit_radius = 0.0;
+    return loadScan(path.toStdString(), load).lines.size();
+  }
+
+  // Waits until `process`'s standard error, gathered into `err`, holds `text`.
+  static bool waitForError(QProcess& process, const QString& text, QString& err) {
+    return waitFor([&] {
+      process.waitForReadyRead(100);
+      err += QString::fromUtf8(process.readAllStandardError());
+      return err.contains(text);
+    });
+  }
+
   QTemporaryDir dir_;
   QString credentials_;
   QProcess serve_;
@@ -91,11 +107,7 @@ TEST_F(RemoteCommands, SigtermOnARemoteScanKeepsTheLinesThatArrived) {
                                "--lines", "423", "-o", output});
   ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
   QString err;
-  ASSERT_TRUE(waitFor([&] {
-    acquire.waitForReadyRead(100);
-    err += QString::fromUtf8(acquire.readAllStandardError());
-    return err.contains("link: ");
-  }));
+  ASSERT_TRUE(waitForError(acquire, "link: ", err));
   QThread::msleep(2500);  // lines stream
   acquire.terminate();    // SIGTERM
   ASSERT_TRUE(acquire.waitForFinished(kWaitMs));
@@ -108,11 +120,8 @@ TEST_F(RemoteCommands, SigtermOnARemoteScanKeepsTheLinesThatArrived) {
   EXPECT_FALSE(QFile::exists(output));
   const QString partial = dir_.filePath("cut.partial.pcd");
   ASSERT_TRUE(QFile::exists(partial)) << err.toStdString();
-  LoadOptions load;
-  load.self_hit_radius = 0.0;
-  const Scan kept = loadScan(partial.toStdString(), load);
-  EXPECT_GT(kept.lines.size(), 0u);
-  EXPECT_LT(kept.lines.size(), std::size_t(kGarageLines));
+  EXPECT_GT(linesIn(partial), 0u);
+  EXPECT_LT(linesIn(partial), std::size_t(kGarageLines));
 }
 
 // serve stopped during a scan cancels it and saves the lines it has before it ends (it used to end
@@ -127,11 +136,7 @@ TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
                  "--give-up", "3", "-o", dir_.filePath("client.pcd")});
   ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
   QString err;
-  ASSERT_TRUE(waitFor([&] {
-    acquire.waitForReadyRead(100);
-    err += QString::fromUtf8(acquire.readAllStandardError());
-    return err.contains("link: connected");
-  })) << err.toStdString();
+  ASSERT_TRUE(waitForError(acquire, "link: connected", err)) << err.toStdString();
   QThread::msleep(2500);  // lines stream
   slow_serve.terminate();
   ASSERT_TRUE(slow_serve.waitForFinished(kWaitMs));
@@ -139,12 +144,9 @@ TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
   acquire.waitForFinished(kWaitMs);
   const QStringList saved = QDir(dir_.filePath("slow-robot")).entryList({"scan-*-partial.pcd"});
   ASSERT_EQ(saved.size(), 1) << log.toStdString();
-  LoadOptions load;
-  load.self_hit_radius = 0.0;
-  const Scan kept =
-      loadScan(QDir(dir_.filePath("slow-robot")).filePath(saved.front()).toStdString(), load);
-  EXPECT_GT(kept.lines.size(), 0u);
-  EXPECT_LT(kept.lines.size(), std::size_t(kGarageLines));
+  const QString kept = QDir(dir_.filePath("slow-robot")).filePath(saved.front());
+  EXPECT_GT(linesIn(kept), 0u);
+  EXPECT_LT(linesIn(kept), std::size_t(kGarageLines));
 }
 
 // A second console asking for control while one has it is told so at once (it waited forever).
@@ -157,11 +159,7 @@ TEST_F(RemoteCommands, ASecondControllerIsToldAnotherConsoleControls) {
                              "423", "-o", dir_.filePath("first.pcd")});
   ASSERT_TRUE(first.waitForStarted(kWaitMs));
   QString first_err;
-  ASSERT_TRUE(waitFor([&] {
-    first.waitForReadyRead(100);
-    first_err += QString::fromUtf8(first.readAllStandardError());
-    return first_err.contains("in control");
-  })) << first_err.toStdString();
+  ASSERT_TRUE(waitForError(first, "in control", first_err)) << first_err.toStdString();
   QProcess second;
   second.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
                               "--lines", "40", "-o", dir_.filePath("second.pcd")});
