@@ -1,16 +1,15 @@
 // Where the robot stands and where it can get to: a search over (cell, orientation) states from
-// the robot's own pose. Moves are one cell to any of the eight neighbours keeping the heading
-// (the box fits at both ends, 5 cm apart) and turns on the spot to the next tried orientation
-// where the box fits in both. Turning by one step of the tried orientations (15 deg by default)
-// sweeps the box's corners at most R (1 - cos(step / 2)) beyond the two boxes (6 mm for the LMF),
-// well inside the half cell of margin green cells keep.
+// the robot's own pose. Moves are straight, forward or back along the heading (within 7.5 deg,
+// up to 8 cells, the box fitting at every cell crossed: motion_primitives.h), never sideways, and
+// turns on the spot to the next tried orientation where the box fits in both. Turning by one step
+// of the tried orientations (15 deg by default) sweeps the box's corners at most R (1 - cos(step /
+// 2)) beyond the two boxes (6 mm for the LMF), well inside the half cell of margin green cells
+// keep.
 
 #include "clearway/traversability/reachability.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <array>
-#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -18,6 +17,7 @@
 
 #include "cell_classes.h"
 #include "clearway/traversability/traversability_map.h"
+#include "motion_primitives.h"
 #include "reachability_search.h"
 
 namespace clearway {
@@ -35,7 +35,7 @@ constexpr double kMountSearchStep = 0.1;
 constexpr std::size_t kBlockingWeight = 1000;
 // The robot's place found by the search is kept to this [m].
 constexpr double kPoseQuantum = 1e-9;
-// A path keeps a pose at least every this many cells, besides every turn.
+// A path keeps a pose at least every this many cells of driving, besides every turn.
 constexpr int kPathPoseEvery = 10;
 
 constexpr int kNeighbourColumns[8] = {1, -1, 0, 0, 1, 1, -1, -1};
@@ -264,12 +264,26 @@ namespace {
 // Up to this many orientations, a cell's poses are the bits of one word.
 constexpr std::size_t kMaskBits = 64;
 
-// The same search a word at a time: bit b of a cell's masks is the b-th orientation by angle, so
-// turning to the next tried orientation on either side is a one-bit rotation; a cell hands the
-// orientations it has reached to its neighbours with one AND. The same states are reached and
-// met as one pose at a time (map.pose_fit is only written for the states met).
+// Records, for every cell the search looked at (`looked`), the fit of each of its orientations,
+// and makes the robot's own pose valid: its box stands there even where the cell-centred tests,
+// half a cell off its exact position, touch something just outside it.
+void keepLookedAtFits(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits,
+                      const std::vector<std::uint8_t>& looked, std::size_t start_cell) {
+  const std::size_t orientations = map.yaws.size();
+  for (std::size_t cell = 0; cell < looked.size(); ++cell)
+    if (looked[cell])
+      std::copy_n(pose_fits.data() + cell * orientations, orientations, map.pose_fit.fitsOf(cell));
+  std::uint8_t& start_fit = map.pose_fit.fitsOf(start_cell)[std::size_t(map.robot_orientation)];
+  if (start_fit == std::uint8_t(PoseFit::kBlocked)) start_fit = std::uint8_t(PoseFit::kCareful);
+  map.reachable_cells = std::size_t(std::count(map.reach.begin(), map.reach.end(), 1));
+}
+
+// The search a word at a time: bit b of a cell's masks is the b-th orientation by angle, so
+// turning to the next tried orientation on either side is a one-bit rotation, and a move is
+// driven in every orientation that drives it with one AND per cell it crosses. The same states
+// are reached and the same cells looked at as one pose at a time.
 void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits,
-                   const Eigen::Vector2i& start) {
+                   const std::vector<std::uint32_t>& may_enter, const Eigen::Vector2i& start) {
   using Mask = std::uint64_t;
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();
@@ -299,42 +313,94 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
     }
   };
   const std::size_t cells = grid.cells();
-  // The orientations the box fits in, per cell, worked out when the search first looks there.
+  // The orientations the box fits in, per cell (none outside the cells the search may enter).
   std::vector<Mask> open(cells, 0), reached(cells, 0);
-  std::vector<std::uint8_t> opened(cells, 0);
-  auto openAt = [&](std::size_t cell) {
-    if (!opened[cell]) {
-      opened[cell] = 1;
-      const std::uint8_t* fits = pose_fits.data() + cell * orientations;
-      Mask m = 0;
-      for (std::size_t k = 0; k < orientations; ++k)
-        if (fits[k] != std::uint8_t(PoseFit::kBlocked)) m |= Mask{1} << bit_of[k];
-      open[cell] |= m;
-    }
-    return open[cell];
-  };
-  // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
-  // off its exact position, touch something just outside its box.
+  for (const std::uint32_t cell : may_enter) {
+    const std::uint8_t* fits = pose_fits.data() + std::size_t(cell) * orientations;
+    Mask m = 0;
+    for (std::size_t k = 0; k < orientations; ++k)
+      if (fits[k] != std::uint8_t(PoseFit::kBlocked)) m |= Mask{1} << bit_of[k];
+    open[cell] = m;
+  }
+  // The cells the search looked at: their fits are kept.
+  std::vector<std::uint8_t> looked(cells, 0);
+  // The orientations that drive each move, and every move's crossed cells as steps in the cell
+  // array, one list after the other.
+  const MotionPrimitives primitives = motionPrimitives(map.yaws);
+  std::vector<Mask> drives(primitives.moves.size(), 0);
+  for (std::size_t k = 0; k < orientations; ++k)
+    for (const int move : primitives.of_orientation[k])
+      drives[std::size_t(move)] |= Mask{1} << bit_of[k];
+  std::vector<std::ptrdiff_t> crossed_steps;
+  std::vector<std::size_t> first_step(primitives.moves.size() + 1, 0);
+  for (std::size_t p = 0; p < primitives.moves.size(); ++p) {
+    for (const MotionPrimitive::Crossed& step : primitives.moves[p].crossed)
+      crossed_steps.push_back(std::ptrdiff_t(step.dy) * grid.width + step.dx);
+    first_step[p + 1] = crossed_steps.size();
+  }
+  // The robot stands there, in its own heading even where the tests say its box does not fit.
+  // Where its heading is a guess, it may stand in any orientation its box fits in there.
   const std::size_t start_cell = grid.index(start.x(), start.y());
   const Mask start_bit = Mask{1} << bit_of[std::size_t(map.robot_orientation)];
-  open[start_cell] = start_bit;
-  reached[start_cell] = closeTurns(start_bit, openAt(start_cell));
+  const Mask start_mask = map.robot_heading_known ? start_bit : start_bit | open[start_cell];
+  open[start_cell] |= start_bit;
+  looked[start_cell] = 1;
+  reached[start_cell] = closeTurns(start_mask, open[start_cell]);
+  // What each cell has handed on: a cell is handed on again only with the orientations it
+  // reached since, so every (cell, orientation, move) is driven once.
+  std::vector<Mask> handed(cells, 0);
   // Cells whose reached orientations grew and are still to be handed on, first in first out (a
   // cell is then rarely handed on twice), each queued at most once at a time.
   std::vector<std::uint32_t> work = {std::uint32_t(start_cell)};
   std::vector<std::uint8_t> in_work(cells, 0);
   in_work[start_cell] = 1;
+  // The arrays every crossed cell reads and writes, as plain pointers: the compiler cannot tell a
+  // vector's data from its bookkeeping, and reloaded them at every cell.
+  const Mask* const open_of = open.data();
+  std::uint8_t* const looked_of = looked.data();
+  std::uint8_t* const reach_of = map.reach.data();
   for (std::size_t head = 0; head < work.size(); ++head) {
     const std::size_t cell = work[head];
     in_work[cell] = 0;
+    const Mask here = reached[cell] & ~handed[cell];
+    handed[cell] |= here;
+    reach_of[cell] = 1;
     const int row = int(cell / std::size_t(grid.width));
     const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
-    const Mask here = reached[cell];
-    for (int n = 0; n < 8; ++n) {
-      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
-      if (!grid.inside(c, r)) continue;
-      const std::size_t next = grid.index(c, r);
-      const Mask arriving = here & ~reached[next] & openAt(next);
+    const bool inner = column >= kLongestMoveCells && row >= kLongestMoveCells &&
+                       column + kLongestMoveCells < grid.width &&
+                       row + kLongestMoveCells < grid.height;
+    for (std::size_t p = 0; p < primitives.moves.size(); ++p) {
+      Mask m = here & drives[p];
+      if (!m) continue;
+      // Away from the map's edge (the moves are at most kLongestMoveCells long) every crossed
+      // cell is inside; near it, a move stops where it would leave the map.
+      const std::ptrdiff_t* const first = crossed_steps.data() + first_step[p];
+      const std::ptrdiff_t* const last = crossed_steps.data() + first_step[p + 1];
+      std::size_t next = cell;
+      if (inner) {
+        for (const std::ptrdiff_t* step = first; step != last; ++step) {
+          next = std::size_t(std::ptrdiff_t(cell) + *step);
+          looked_of[next] = 1;
+          m &= open_of[next];
+          if (!m) break;
+          reach_of[next] = 1;  // the box stands there on its way
+        }
+      } else {
+        const MotionPrimitive::Crossed* crossed = primitives.moves[p].crossed.data();
+        for (const std::ptrdiff_t* step = first; step != last; ++step, ++crossed) {
+          if (!grid.inside(column + crossed->dx, row + crossed->dy)) {
+            m = 0;
+            break;
+          }
+          next = std::size_t(std::ptrdiff_t(cell) + *step);
+          looked_of[next] = 1;
+          m &= open_of[next];
+          if (!m) break;
+          reach_of[next] = 1;
+        }
+      }
+      const Mask arriving = m & ~reached[next];
       if (!arriving) continue;
       reached[next] = closeTurns(reached[next] | arriving, open[next]);
       if (!in_work[next]) {
@@ -343,31 +409,7 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
       }
     }
   }
-  // Met: every reached pose's neighbours in its heading and its turns, each given its fit.
-  std::vector<Mask> met(cells, 0);
-  for (std::size_t cell = 0; cell < cells; ++cell) {
-    const Mask here = reached[cell];
-    if (!here) continue;
-    map.reach[cell] = 1;
-    ++map.reachable_cells;
-    met[cell] |= here | turned(here);
-    const int row = int(cell / std::size_t(grid.width));
-    const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
-    for (int n = 0; n < 8; ++n) {
-      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
-      if (grid.inside(c, r)) met[grid.index(c, r)] |= here;
-    }
-  }
-  for (std::size_t cell = 0; cell < cells; ++cell) {
-    if (!met[cell]) continue;
-    std::uint8_t* fits = map.pose_fit.fitsOf(cell);
-    for (Mask m = met[cell]; m; m &= m - 1) {
-      const auto k = std::size_t(by_angle[std::size_t(std::countr_zero(m))]);
-      fits[k] = pose_fits[cell * orientations + k];
-    }
-  }
-  std::uint8_t& start_fit = map.pose_fit.fitsOf(start_cell)[std::size_t(map.robot_orientation)];
-  if (start_fit == std::uint8_t(PoseFit::kBlocked)) start_fit = std::uint8_t(PoseFit::kCareful);
+  keepLookedAtFits(map, pose_fits, looked, start_cell);
 }
 
 }  // namespace
@@ -398,7 +440,8 @@ std::vector<std::uint32_t> cellsTheSearchMayEnter(
   return cells;
 }
 
-void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits) {
+void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& pose_fits,
+                     const std::vector<std::uint32_t>& may_enter) {
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();
   map.reach.assign(grid.cells(), 0);
@@ -407,76 +450,87 @@ void searchReachable(TraversabilityMap& map, const std::vector<std::uint8_t>& po
   const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
   if (orientations == 0 || map.robot_orientation < 0 || !grid.inside(start.x(), start.y())) return;
   if (orientations <= kMaskBits) {
-    searchByMasks(map, pose_fits, start);
+    searchByMasks(map, pose_fits, may_enter, start);
     return;
   }
   const std::vector<std::vector<int>> turns = turnNeighbours(map.yaws);
-  // Breadth first; every state met gets its fit recorded once (a state's fit is its own, so the
-  // order of the search changes nothing). States travel with their column, row and orientation:
-  // no division to recover them.
+  const MotionPrimitives primitives = motionPrimitives(map.yaws);
+  // Breadth first over states, each queued once; a state's fit is its own, so the order of the
+  // search changes nothing. States travel with their column, row and orientation: no division to
+  // recover them.
   struct Pose {
     int column, row, k;
   };
-  auto stateOf = [&](int column, int row, int k) {
-    return grid.index(column, row) * orientations + std::size_t(k);
-  };
-  // The eight neighbours' steps in the state array (same orientation).
-  std::array<std::ptrdiff_t, 8> neighbour_step{};
-  for (int n = 0; n < 8; ++n)
-    neighbour_step[std::size_t(n)] =
-        (std::ptrdiff_t(kNeighbourRows[n]) * grid.width + kNeighbourColumns[n]) *
-        std::ptrdiff_t(orientations);
+  std::vector<std::uint8_t> looked(grid.cells(), 0);
+  std::vector<std::uint8_t> queued(grid.cells() * orientations, 0);
   std::vector<Pose> queue;
-  queue.reserve(std::size_t(map.reachable_cells) + 1024);
-  const Pose first{start.x(), start.y(), map.robot_orientation};
-  const std::size_t first_state = stateOf(first.column, first.row, first.k);
-  // The fit of every state met, kUntested where none was: more orientations than a mask's bits
-  // are rare (a scene of many walls), so this search keeps a table of every state.
-  std::vector<std::uint8_t> met_fits(grid.cells() * orientations, std::uint8_t(PoseFit::kUntested));
-  // The robot stands there: its own pose is valid even where the cell-centred tests, half a cell
-  // off its exact position, touch something just outside its box.
-  met_fits[first_state] = pose_fits[first_state] == std::uint8_t(PoseFit::kBlocked)
-                              ? std::uint8_t(PoseFit::kCareful)
-                              : pose_fits[first_state];
-  queue.push_back(first);
-  std::uint8_t* const met = met_fits.data();
-  const std::uint8_t* const fits = pose_fits.data();
-  auto meet = [&](std::size_t state, int column, int row, int k) {
-    if (met[state] != std::uint8_t(PoseFit::kUntested)) return;
-    met[state] = fits[state];
-    if (fits[state] != std::uint8_t(PoseFit::kBlocked)) queue.push_back({column, row, k});
+  // Whether the box fits at (column, row) in orientation k (always at the robot's own pose, see
+  // below); the cell is looked at.
+  const std::size_t own_state =
+      grid.index(start.x(), start.y()) * orientations + std::size_t(map.robot_orientation);
+  auto fits = [&](int column, int row, int k) {
+    const std::size_t cell = grid.index(column, row);
+    looked[cell] = 1;
+    const std::size_t state = cell * orientations + std::size_t(k);
+    return state == own_state || pose_fits[state] != std::uint8_t(PoseFit::kBlocked);
   };
+  auto stand = [&](int column, int row, int k) {
+    const std::size_t state = grid.index(column, row) * orientations + std::size_t(k);
+    if (queued[state]) return;
+    queued[state] = 1;
+    queue.push_back({column, row, k});
+  };
+  // The robot stands there, in its own heading even where the tests say its box does not fit.
+  // Where its heading is a guess, it may stand in any orientation its box fits in there.
+  for (int k = 0; k < int(orientations); ++k)
+    if (fits(start.x(), start.y(), k) && (k == map.robot_orientation || !map.robot_heading_known))
+      stand(start.x(), start.y(), k);
   for (std::size_t next = 0; next < queue.size(); ++next) {
     const Pose pose = queue[next];
-    const std::size_t cell = grid.index(pose.column, pose.row);
-    const std::size_t state = cell * orientations + std::size_t(pose.k);
-    if (!map.reach[cell]) {
-      map.reach[cell] = 1;
-      ++map.reachable_cells;
-    }
-    // Away from the map's edge every neighbour is inside: no bounds checks.
-    const bool inner = pose.column > 0 && pose.row > 0 && pose.column + 1 < grid.width &&
-                       pose.row + 1 < grid.height;
-    for (int n = 0; n < 8; ++n) {
-      const int c = pose.column + kNeighbourColumns[n], r = pose.row + kNeighbourRows[n];
-      if (inner || grid.inside(c, r))
-        meet(std::size_t(std::ptrdiff_t(state) + neighbour_step[std::size_t(n)]), c, r, pose.k);
+    map.reach[grid.index(pose.column, pose.row)] = 1;
+    for (const int index : primitives.of_orientation[std::size_t(pose.k)]) {
+      const MotionPrimitive& move = primitives.moves[std::size_t(index)];
+      bool fits_all = true;
+      for (const MotionPrimitive::Crossed& step : move.crossed) {
+        const int c = pose.column + step.dx, r = pose.row + step.dy;
+        if (!grid.inside(c, r) || !fits(c, r, pose.k)) {
+          fits_all = false;
+          break;
+        }
+        map.reach[grid.index(c, r)] = 1;  // the box stands there on its way
+      }
+      if (fits_all) stand(pose.column + move.dx, pose.row + move.dy, pose.k);
     }
     for (int other : turns[std::size_t(pose.k)])
-      meet(cell * orientations + std::size_t(other), pose.column, pose.row, other);
+      if (fits(pose.column, pose.row, other)) stand(pose.column, pose.row, other);
   }
-  for (std::size_t cell = 0; cell < grid.cells(); ++cell) {
-    const std::uint8_t* cell_fits = met_fits.data() + cell * orientations;
-    if (std::all_of(cell_fits, cell_fits + orientations,
-                    [](std::uint8_t fit) { return fit == std::uint8_t(PoseFit::kUntested); }))
-      continue;
-    std::copy(cell_fits, cell_fits + orientations, map.pose_fit.fitsOf(cell));
-  }
+  keepLookedAtFits(map, pose_fits, looked, grid.index(start.x(), start.y()));
 }
 
 }  // namespace detail
 
 namespace {
+
+// The cost of a move so far, cell by cell: each cell crossed costs the step into it as a single
+// eight-neighbour move would, times its factor. Where the line runs through a corner, going on
+// costs the step times the dearer of the two cells; ending in the second costs its own step.
+struct MoveCost {
+  double through = 0.0;  // to the last cell crossed, going on
+  double before_pair = 0.0, step = 0.0, factor = 0.0;
+  // Enters `crossed` (its factor `f`); returns the cost of ending there.
+  double enter(const detail::MotionPrimitive::Crossed& crossed, double resolution, double f) {
+    if (!crossed.tie) {
+      before_pair = through;
+      step = crossed.step * resolution;
+      factor = f;
+      through += step * f;
+      return through;
+    }
+    factor = std::max(factor, f);
+    through = before_pair + step * factor;
+    return before_pair + crossed.step * resolution * f;
+  }
+};
 
 // Per dense cell, the cheapest cost to the goal's dense cell over 8-neighbour moves, a move costing
 // its length times the cheapest fitting pose's factor in the cell it enters (infinite where the
@@ -550,6 +604,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
 
   const std::size_t orientations = map.yaws.size();
   const std::vector<std::vector<int>> turns = detail::turnNeighbours(map.yaws);
+  const detail::MotionPrimitives primitives = detail::motionPrimitives(map.yaws);
   const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
   // A path only ever enters poses the reachability search found the box fits in, all in reachable
   // cells: the search numbers those cells densely, in map order, so its arrays stay small enough
@@ -582,21 +637,27 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
     result.reason = "the robot's own place is not on the map";
     return result;
   }
-  const std::size_t first =
-      std::size_t(start_cell) * orientations + std::size_t(map.robot_orientation);
   // A* with, as the heuristic, the cheapest way to the goal over the reachable cells when every
-  // cell is entered at its cheapest fitting pose and turns are free: it never overestimates (the
-  // search only adds turns and the poses' constraints) and it is consistent, so the first time the
-  // goal leaves the queue its path is cheapest. Unlike the straight line, it knows where the doors
-  // are: across a winding route the straight line sent the search over most of the map's poses.
+  // cell is entered at its cheapest fitting pose, turns are free and the box may move to any of
+  // the eight neighbours: it never overestimates (a move costs what its cells cost as single
+  // steps, and the search only adds turns and the poses' constraints) and it is consistent, so
+  // the first time the goal leaves the queue its path is cheapest. Unlike the straight line, it
+  // knows where the doors are: across a winding route the straight line sent the search over most
+  // of the map's poses.
   const std::vector<double> remaining = cheapestToGoal(
       grid, dense_cell, cell_of, factor, orientations, std::size_t(dense_cell[goal_cell]));
   if (!std::isfinite(remaining[std::size_t(start_cell)])) {
     result.reason = "no path found to the goal";
     return result;
   }
-  cost[first] = 0.0;
-  queue.push({remaining[std::size_t(start_cell)], first});
+  // The robot's own pose; where its heading is a guess, every orientation its box fits in there.
+  for (std::size_t k = 0; k < orientations; ++k) {
+    const std::size_t first = std::size_t(start_cell) * orientations + k;
+    if (int(k) != map.robot_orientation && (map.robot_heading_known || factor[first] == 0.0))
+      continue;
+    cost[first] = 0.0;
+    queue.push({remaining[std::size_t(start_cell)], first});
+  }
   std::int64_t reached = -1;
   while (!queue.empty()) {
     // A named copy of the state: clang 14 lets no lambda (relax below) capture a structured
@@ -615,26 +676,40 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
       reached = std::int64_t(state);
       break;
     }
-    auto relax = [&](std::size_t next, double next_remaining, double step) {
+    auto relax = [&](std::size_t next, double next_remaining, double added_cost) {
       if (factor[next] == 0.0 || !std::isfinite(next_remaining)) return;
-      const double next_cost = here_cost + step * factor[next];
+      const double next_cost = here_cost + added_cost;
       if (next_cost < cost[next]) {
         cost[next] = next_cost;
         previous[next] = std::int32_t(state);
         queue.push({next_cost + next_remaining, next});
       }
     };
-    for (int n = 0; n < 8; ++n) {
-      const int c = column + kNeighbourColumns[n], r = row + kNeighbourRows[n];
-      if (!grid.inside(c, r)) continue;
-      const std::int32_t next_cell = dense_cell[grid.index(c, r)];
-      if (next_cell < 0) continue;  // not reachable: no pose there fits
-      const double step = grid.resolution * (n < 4 ? 1.0 : std::numbers::sqrt2);
-      relax(std::size_t(next_cell) * orientations + std::size_t(k),
-            remaining[std::size_t(next_cell)], step);
+    // The moves along the heading: every cell crossed must be reachable with the box fitting in
+    // this orientation; a move that crosses the goal's cell ends there.
+    for (const int index : primitives.of_orientation[std::size_t(k)]) {
+      MoveCost move_cost;
+      for (const detail::MotionPrimitive::Crossed& crossed :
+           primitives.moves[std::size_t(index)].crossed) {
+        const int c = column + crossed.dx, r = row + crossed.dy;
+        if (!grid.inside(c, r)) break;
+        const std::int32_t next_cell = dense_cell[grid.index(c, r)];
+        if (next_cell < 0) break;  // not reachable: no pose there fits
+        const std::size_t next = std::size_t(next_cell) * orientations + std::size_t(k);
+        if (factor[next] == 0.0) break;
+        const double to_here = move_cost.enter(crossed, grid.resolution, factor[next]);
+        if (cell_of[std::size_t(next_cell)] == goal_cell) {
+          relax(next, 0.0, to_here);
+          break;
+        }
+        if (&crossed == &primitives.moves[std::size_t(index)].crossed.back())
+          relax(next, remaining[std::size_t(next_cell)], move_cost.through);
+      }
     }
-    for (int other : turns[std::size_t(k)])
-      relax(dense * orientations + std::size_t(other), here_remaining, kTurnCost);
+    for (int other : turns[std::size_t(k)]) {
+      const std::size_t turned_state = dense * orientations + std::size_t(other);
+      relax(turned_state, here_remaining, kTurnCost * factor[turned_state]);
+    }
   }
   if (reached < 0) {
     result.reason = "no path found to the goal";
@@ -647,7 +722,7 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
   std::reverse(chain.begin(), chain.end());
   result.reachable = true;
   result.cost = cost[std::size_t(reached)];
-  int since_kept = 0;
+  int cells_since_kept = 0;
   for (std::size_t i = 0; i < chain.size(); ++i) {
     const std::size_t cell = chain[i] / orientations;
     const int k = int(chain[i] % orientations);
@@ -659,14 +734,15 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
         const int dc = column - int(before % std::size_t(grid.width));
         const int dr = row - int(before / std::size_t(grid.width));
         result.length_m += grid.resolution * std::hypot(double(dc), double(dr));
+        cells_since_kept += std::max(std::abs(dc), std::abs(dr));
       }
     }
     const bool turn = i + 1 < chain.size() && int(chain[i + 1] % orientations) != k;
     const bool turned = i > 0 && int(chain[i - 1] % orientations) != k;
-    if (i == 0 || i + 1 == chain.size() || turn || turned || ++since_kept >= kPathPoseEvery) {
+    if (i == 0 || i + 1 == chain.size() || turn || turned || cells_since_kept >= kPathPoseEvery) {
+      cells_since_kept = 0;
       const Eigen::Vector2d centre = grid.centre(column, row);
       result.path.push_back({centre.x(), centre.y(), map.yaws[std::size_t(k)] * 180.0 / kPi});
-      since_kept = 0;
     }
   }
   return result;

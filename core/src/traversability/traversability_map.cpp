@@ -283,6 +283,7 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   map.yaws = detail::orientationsToTry(analysis, params.orientations);
   map.robot_pose = robotPoseOnMap(analysis, robot, map.yaws);
   map.robot_orientation = detail::orientationIndex(map.yaws, map.robot_pose.yaw);
+  map.robot_heading_known = analysis.robot_from_scanner.has_value();
 
   // The cells' classes and the box's footprints (which need only the orientations) side by side.
   CellClasses classes;
@@ -324,12 +325,14 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
       threads);
   // The label loop stops at a cell's first fit; the search needs every pose's fit, but only of the
   // cells it may enter (under a car-mounted sensor a few, in a room nearly all).
-  completeFits(detail::cellsTheSearchMayEnter(map, loose_placement.orientation), footprints,
-               *loose_tester, map.grid, threads, pose_fits);
+  const std::vector<std::uint32_t> may_enter =
+      detail::cellsTheSearchMayEnter(map, loose_placement.orientation);
+  completeFits(may_enter, footprints, *loose_tester, map.grid, threads, pose_fits);
   // Where the robot can get from its own pose, on the fits found above (cells that are not free,
   // or where the box fits in no orientation, kept kBlocked throughout), beside the placement on
   // vouched-for ground: the search is one thread's work, the rows are shared by all.
-  std::vector<std::function<void()>> tasks = {[&] { detail::searchReachable(map, pose_fits); }};
+  std::vector<std::function<void()>> tasks = {
+      [&] { detail::searchReachable(map, pose_fits, may_enter); }};
   std::vector<std::uint8_t> no_pose_fits;  // the first fit of each cell is enough here
   // Away from sparse cells the strict placement's tests are the loose one's: it reads them.
   const ReusedFits reused{has_sparse ? detail::cellsNearSparse(classes.sparse, map.grid, footprints)

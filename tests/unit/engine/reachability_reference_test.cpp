@@ -15,6 +15,7 @@
 
 #include "../../../core/src/traversability/cell_classes.h"
 #include "../../../core/src/traversability/footprints.h"
+#include "../../../core/src/traversability/motion_primitives.h"
 #include "../../../core/src/traversability/unseen_surroundings.h"
 #include "clearway/segmentation/stairs.h"
 #include "engine_fixtures.h"
@@ -195,8 +196,10 @@ Placement placePlainly(const TraversabilityMap& produced, const CellClasses& cla
       }
     }
 
-  // Breadth first from the robot's pose: eight neighbours in the same heading, and a turn to the
-  // next tried orientation on either side (sorted by angle modulo 180 deg).
+  // Breadth first from the robot's pose: the moves along each heading (forward and back, the
+  // box fitting at every cell crossed; their definition is motionPrimitives'), and a turn to the
+  // next tried orientation on either side (sorted by angle modulo 180 deg). Every orientation's
+  // fit is kept for each cell looked at.
   placed.reach.assign(grid.cells(), 0);
   placed.pose_fit.assign(grid.cells() * orientations, std::uint8_t(PoseFit::kUntested));
   const Eigen::Vector2i start = grid.cellOf(produced.robot_pose.x, produced.robot_pose.y);
@@ -218,43 +221,56 @@ Placement placePlainly(const TraversabilityMap& produced, const CellClasses& cla
     if (n > 2) turns.push_back(by_angle[(at + n - 1) % n]);
     return turns;
   };
+  const detail::MotionPrimitives moves = detail::motionPrimitives(produced.yaws);
+  // The robot's own pose is valid even where the cell-centred tests, half a cell off its exact
+  // position, touch something just outside its box.
+  const std::size_t own_state =
+      grid.index(start.x(), start.y()) * orientations + std::size_t(produced.robot_orientation);
+  // Looks at a cell (every orientation's fit kept) and says whether the box fits in k there.
+  auto fitsAt = [&](int column, int row, int k) {
+    const std::size_t cell = grid.index(column, row);
+    for (int other = 0; other < int(orientations); ++other) {
+      const std::size_t state = cell * orientations + std::size_t(other);
+      PoseFit fit = fitsLabel(placed.labels[cell]) ? fitOf(column, row, other) : PoseFit::kBlocked;
+      if (state == own_state && fit == PoseFit::kBlocked) fit = PoseFit::kCareful;
+      placed.pose_fit[state] = std::uint8_t(fit);
+    }
+    return placed.pose_fit[cell * orientations + std::size_t(k)] != std::uint8_t(PoseFit::kBlocked);
+  };
   struct Pose {
     int column, row, k;
   };
-  auto visit = [&](const Pose& pose) {
-    const std::size_t cell = grid.index(pose.column, pose.row);
-    const PoseFit fit =
-        fitsLabel(placed.labels[cell]) ? fitOf(pose.column, pose.row, pose.k) : PoseFit::kBlocked;
-    placed.pose_fit[cell * orientations + std::size_t(pose.k)] = std::uint8_t(fit);
-    return fit;
+  std::vector<std::uint8_t> queued(grid.cells() * orientations, 0);
+  std::deque<Pose> queue;
+  auto stand = [&](int column, int row, int k) {
+    std::uint8_t& was = queued[grid.index(column, row) * orientations + std::size_t(k)];
+    if (!was) queue.push_back({column, row, k});
+    was = 1;
   };
-  const Pose first{start.x(), start.y(), produced.robot_orientation};
-  std::uint8_t& first_fit =
-      placed.pose_fit[grid.index(first.column, first.row) * orientations + std::size_t(first.k)];
-  if (visit(first) == PoseFit::kBlocked)
-    first_fit = std::uint8_t(PoseFit::kCareful);  // it stands there
-  std::deque<Pose> queue = {first};
+  // The robot stands at its own pose; with its heading a guess, in any orientation that fits.
+  for (int k = 0; k < int(orientations); ++k)
+    if (fitsAt(start.x(), start.y(), k) &&
+        (k == produced.robot_orientation || !produced.robot_heading_known))
+      stand(start.x(), start.y(), k);
   while (!queue.empty()) {
     const Pose pose = queue.front();
     queue.pop_front();
-    const std::size_t cell = grid.index(pose.column, pose.row);
-    if (placed.pose_fit[cell * orientations + std::size_t(pose.k)] ==
-        std::uint8_t(PoseFit::kBlocked))
-      continue;
-    placed.reach[cell] = 1;
-    std::vector<Pose> next;
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if ((dx || dy) && grid.inside(pose.column + dx, pose.row + dy))
-          next.push_back({pose.column + dx, pose.row + dy, pose.k});
-    for (int k : turnsFrom(pose.k))
-      next.push_back({pose.column, pose.row, k});
-    for (const Pose& n : next) {
-      const std::size_t state = grid.index(n.column, n.row) * orientations + std::size_t(n.k);
-      if (placed.pose_fit[state] != std::uint8_t(PoseFit::kUntested)) continue;
-      visit(n);
-      queue.push_back(n);
+    placed.reach[grid.index(pose.column, pose.row)] = 1;
+    for (const int index : moves.of_orientation[std::size_t(pose.k)]) {
+      const detail::MotionPrimitive& move = moves.moves[std::size_t(index)];
+      bool all_fit = true;
+      for (const detail::MotionPrimitive::Crossed& crossed : move.crossed) {
+        const int c = pose.column + crossed.dx, r = pose.row + crossed.dy;
+        if (!grid.inside(c, r) || !fitsAt(c, r, pose.k)) {
+          all_fit = false;
+          break;
+        }
+        placed.reach[grid.index(c, r)] = 1;
+      }
+      if (all_fit) stand(pose.column + move.dx, pose.row + move.dy, pose.k);
     }
+    for (int k : turnsFrom(pose.k))
+      if (fitsAt(pose.column, pose.row, k)) stand(pose.column, pose.row, k);
   }
   return placed;
 }

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "../../../core/src/traversability/motion_primitives.h"
 #include "../../../core/src/traversability/reachability_search.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/pose.h"
@@ -135,30 +136,60 @@ TEST(Reachability, TheSmallRobotGetsAPathThroughTheDoor) {
   EXPECT_LT(nearest, 0.6) << "the path leaves through the door";
 }
 
+// A robot wider than the 0.9 m door but shorter than it fits in the yard, and would pass the door
+// sideways; a tracked or wheeled base does not slide. The search of before took it through
+// ("Can it get there? Yes"); a robot narrower than the door still gets through, square to it.
+TEST(Reachability, ARobotWiderThanTheDoorIsNotTakenThroughItSideways) {
+  for (const double width : {0.92, 0.86}) {
+    SegmentationParams params = robotOfWidth(width);
+    params.robot.length = 0.5;
+    const auto run = test::simulateAndSegment("garage", 423, params);
+    ASSERT_TRUE(run.result.trusted());
+    const TraversabilityMap& map = run.result.map;
+    const Eigen::Vector2d yard = mapPosition(run, kYard);
+    const Eigen::Vector2i cell = map.grid.cellOf(yard.x(), yard.y());
+    ASSERT_TRUE(map.grid.inside(cell.x(), cell.y()));
+    ASSERT_TRUE(robotFits(map.label(cell.x(), cell.y()))) << width << " m";
+    const GoalResult goal = planPath(map, yard.x(), yard.y());
+    if (width > 0.9) {
+      EXPECT_FALSE(goal.reachable) << width << " m";
+      EXPECT_NE(goal.reason.find("cannot get there"), std::string::npos) << goal.reason;
+    } else {
+      EXPECT_TRUE(goal.reachable) << width << " m: " << goal.reason;
+    }
+  }
+}
+
 // The cheapest cost from the robot's pose to any pose in `goal`'s cell, by a plain Dijkstra over
 // every (cell, orientation) state of the reachable cells: the definition planPath's A* must meet
-// whatever its heuristic. Costs as docs/ALGORITHM.md gives them: a move's length, three times
-// that on orange, 0.05 m per turn step.
+// whatever its heuristic. Costs as docs/ALGORITHM.md gives them: a move costs each cell it
+// crosses as a single step into it would (1 or sqrt 2 cells), three times that on orange, and
+// 0.05 m per turn step.
 double cheapestCost(const TraversabilityMap& map, const Eigen::Vector2d& goal) {
   constexpr double kCarefulFactor = 3.0, kTurnStep = 0.05;
   const MapGrid& grid = map.grid;
   const std::size_t orientations = map.yaws.size();
   const auto turns = detail::turnNeighbours(map.yaws);
+  const detail::MotionPrimitives moves = detail::motionPrimitives(map.yaws);
   std::vector<double> cost(grid.cells() * orientations, std::numeric_limits<double>::infinity());
   using Entry = std::pair<double, std::size_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-  const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
-  const std::size_t first =
-      grid.index(start.x(), start.y()) * orientations + std::size_t(map.robot_orientation);
-  cost[first] = 0.0;
-  queue.push({0.0, first});
-  const Eigen::Vector2i target = grid.cellOf(goal.x(), goal.y());
-  const std::size_t goal_cell = grid.index(target.x(), target.y());
   auto factor = [&](std::size_t state) {
     if (!map.reach[state / orientations]) return 0.0;
     const PoseFit fit = map.pose_fit.at(state / orientations, state % orientations);
     return fit == PoseFit::kClear ? 1.0 : fit == PoseFit::kCareful ? kCarefulFactor : 0.0;
   };
+  // From the robot's own pose; with its heading a guess, from any orientation that fits there.
+  const Eigen::Vector2i start = grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  for (std::size_t k = 0; k < orientations; ++k) {
+    const std::size_t state = grid.index(start.x(), start.y()) * orientations + k;
+    if (int(k) == map.robot_orientation || (!map.robot_heading_known && factor(state) > 0)) {
+      cost[state] = 0.0;
+      queue.push({0.0, state});
+    }
+  }
+  const Eigen::Vector2i target = grid.cellOf(goal.x(), goal.y());
+  const std::size_t goal_cell = grid.index(target.x(), target.y());
   while (!queue.empty()) {
     const auto [here, state] = queue.top();
     queue.pop();
@@ -168,19 +199,49 @@ double cheapestCost(const TraversabilityMap& map, const Eigen::Vector2d& goal) {
     const int k = int(state % orientations);
     const int column = int(cell % std::size_t(grid.width)),
               row = int(cell / std::size_t(grid.width));
-    auto relax = [&](std::size_t next, double step) {
-      const double f = factor(next);
-      if (f == 0.0 || here + step * f >= cost[next]) return;
-      cost[next] = here + step * f;
+    auto relax = [&](std::size_t next, double added) {
+      if (here + added >= cost[next]) return;
+      cost[next] = here + added;
       queue.push({cost[next], next});
     };
-    for (int dr = -1; dr <= 1; ++dr)
-      for (int dc = -1; dc <= 1; ++dc)
-        if ((dr || dc) && grid.inside(column + dc, row + dr))
-          relax(grid.index(column + dc, row + dr) * orientations + std::size_t(k),
-                grid.resolution * std::hypot(double(dc), double(dr)));
+    // A move: each cell it crosses costs the step into it as a single move would (1 or sqrt 2
+    // cells) times its factor; past a corner's pair of cells, the dearer; ending in the pair's
+    // second, its own step from the cell before the pair. It ends at the goal's cell.
+    for (const int index : moves.of_orientation[std::size_t(k)]) {
+      const auto& crossed_cells = moves.moves[std::size_t(index)].crossed;
+      double going_on = 0.0, before_pair = 0.0;
+      for (std::size_t i = 0; i < crossed_cells.size(); ++i) {
+        const detail::MotionPrimitive::Crossed& crossed = crossed_cells[i];
+        const int c = column + crossed.dx, r = row + crossed.dy;
+        if (!grid.inside(c, r)) break;
+        const std::size_t next = grid.index(c, r) * orientations + std::size_t(k);
+        const double f = factor(next);
+        if (f == 0.0) break;
+        const double step = grid.resolution * crossed.step;
+        double ending_here = 0.0;
+        if (crossed.tie) {
+          const double pair_step = grid.resolution * crossed_cells[i - 1].step;
+          const detail::MotionPrimitive::Crossed& first = crossed_cells[i - 1];
+          const double first_factor =
+              factor(grid.index(column + first.dx, row + first.dy) * orientations + std::size_t(k));
+          const double pair_factor = std::max(f, first_factor);
+          going_on = before_pair + pair_step * pair_factor;
+          ending_here = before_pair + step * f;
+        } else {
+          before_pair = going_on;
+          going_on += step * f;
+          ending_here = going_on;
+        }
+        if (grid.index(c, r) == goal_cell) {
+          relax(next, ending_here);
+          break;
+        }
+        if (i + 1 == crossed_cells.size()) relax(next, going_on);
+      }
+    }
     for (const int other : turns[std::size_t(k)])
-      relax(cell * orientations + std::size_t(other), kTurnStep);
+      if (const double f = factor(cell * orientations + std::size_t(other)); f > 0.0)
+        relax(cell * orientations + std::size_t(other), kTurnStep * f);
   }
   return std::numeric_limits<double>::infinity();
 }

@@ -39,8 +39,8 @@ enum class PoseFit : std::uint8_t {
   kClear = 3,    // fits with half a cell to spare (green)
 };
 
-// The fit of every pose the reachability search met (its reach, and the poses one move or turn
-// beyond it), kept for the cells it met only, all their orientations together: a car-mounted
+// The fit of every orientation at the cells the reachability search looked at (its reach, and
+// the cells where a move of it stopped), kept for those cells only: a car-mounted
 // sensor's search meets a handful of a map's cells, and a table of every pose took 14 MB on a
 // KITTI frame (298k cells x 48 orientations).
 class MetPoseFits {

@@ -68,7 +68,10 @@ struct TraversabilityMap {
 
   // Where the robot stands (its own cells are ground: it stands on them) and where it can get.
   RobotPose robot_pose;
-  int robot_orientation = -1;       // index into yaws of the robot's own heading
+  int robot_orientation = -1;  // index into yaws of the robot's own heading
+  // A recorded pose gave the heading; without one it is a guess, and the robot may stand in any
+  // orientation its box fits in at its own place.
+  bool robot_heading_known = false;
   std::vector<std::uint8_t> reach;  // per cell: 1 reachable from the robot's pose, else 0
   std::size_t reachable_cells = 0;
   std::size_t fits_not_reachable_cells = 0;  // green/orange cells the robot cannot get to
