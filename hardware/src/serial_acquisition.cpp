@@ -101,6 +101,19 @@ std::optional<LinkSpeed> linkSpeed(int baud) {
   }
 }
 
+// A laser left streaming (the process that started it killed mid-scan, the laser still powered)
+// fills the line with measured values, and the bytes of a telegram joined halfway read as ACK or
+// NAK: the first command was "refused". If anything arrives unasked, the laser is told to stop
+// its output (values on request) and the line is drained until it has been quiet a while.
+void quietTheLaser(SerialPort& lms, int timeout_ms) {
+  constexpr int kQuietMs = 60;  // silence that says nothing more is coming
+  if (!waitReadable(lms.fd(), kQuietMs)) return;
+  lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
+  const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
+  while (Clock::now() < deadline && waitReadable(lms.fd(), kQuietMs))
+    lms.readAvailable();
+}
+
 bool stopRequested(int stop_fd) {
   return stop_fd >= 0 && waitReadable(stop_fd, 0);
 }
@@ -130,8 +143,9 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     result.error = !lms.error().empty() ? lms.error() : table.openError();
     return result;
   }
-  lms200::Parser parser;
   const int timeout = options.answer_timeout_ms;
+  quietTheLaser(lms, timeout);
+  lms200::Parser parser;
   std::string& error = result.error;
   const auto interrupted = [&] {
     if (!stopRequested(options.stop_fd)) return false;
