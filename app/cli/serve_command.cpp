@@ -117,6 +117,7 @@ int runServe(const std::vector<std::string>& words) {
   std::unique_ptr<hardware::ScannerDevice> device = makeDevice(arguments);
   RemoteScanServer server(device.get(), credentials, options);
   QObject::connect(&server, &RemoteScanServer::logMessage, &log);
+  server.recoverInterruptedScans();  // before any console can ask for them
 
   const QHostAddress address =
       host == "localhost" ? QHostAddress(QHostAddress::LocalHost) : QHostAddress(host);

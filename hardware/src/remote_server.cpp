@@ -2,15 +2,19 @@
 
 #include <QDateTime>
 #include <QDir>
+#include <QFile>
 #include <QFileInfo>
+#include <QMetaObject>
 #include <QPointer>
 #include <QSslConfiguration>
 #include <QSslPreSharedKeyAuthenticator>
 #include <QSslSocket>
 #include <QTimer>
 #include <deque>
+#include <filesystem>
 #include <map>
 
+#include "clearway/hardware/journal_recovery.h"
 #include "clearway/hardware/remote_protocol.h"
 #include "clearway/io/scan_io.h"
 
@@ -62,6 +66,10 @@ struct RemoteScanServer::Private {
   QString last_failure;
 
   void log(const QString& line) { emit q->logMessage(line); }
+  // Where scan `id`'s lines are journaled while it runs.
+  QString journalPath(std::uint64_t id) const {
+    return QDir(options.storage_dir).filePath(QString("scan-%1.journal").arg(id));
+  }
 
   Session* session(int id) {
     const auto found = sessions.find(id);
@@ -145,6 +153,20 @@ RemoteScanServer::RemoteScanServer(ScannerDevice* device, RobotCredentials crede
   connect(device, &ScannerDevice::failed, this, [this](const QString& reason) {
     d_->last_failure = reason;
     d_->log("scanner: " + reason);
+    // A scan that failed before any line arrived ends without scanFinished (a laser that refused
+    // to start, a pose that could not be read): end it here, once whatever follows the failure
+    // in the same breath (scanFinished with the lines so far) has had its turn. The console used
+    // to wait for it forever, and the server refused every later scan.
+    if (!d_->current || d_->current->finished) return;
+    const std::uint64_t id = d_->current->id;
+    QMetaObject::invokeMethod(
+        this,
+        [this, id] {
+          if (!d_->current || d_->current->id != id || d_->current->finished) return;
+          if (d_->device->state() == ScannerDevice::State::kScanning) return;
+          d_->finishScan(std::make_shared<const Scan>(), false);
+        },
+        Qt::QueuedConnection);
   });
 }
 
@@ -158,6 +180,26 @@ RemoteScanServer::~RemoteScanServer() {
 
 ServerStatistics RemoteScanServer::statistics() const {
   return d_->statistics;
+}
+
+int RemoteScanServer::recoverInterruptedScans() {
+  int recovered = 0;
+  for (const std::filesystem::path& journal :
+       unfinishedJournals(d_->options.storage_dir.toStdString())) {
+    const std::filesystem::path scan = recoveredScanPathFor(journal);
+    try {
+      const Acquisition acquisition = recoverJournalInto(journal, scan);
+      ++recovered;
+      d_->log(QString("recovered %1, left by a scan the robot did not finish, into %2: %3")
+                  .arg(QString::fromStdString(journal.filename().string()),
+                       QString::fromStdString(scan.string()),
+                       QString::fromStdString(describeLines(acquisition))));
+    } catch (const std::exception& error) {
+      d_->log(QString("could not recover %1: %2")
+                  .arg(QString::fromStdString(journal.string()), error.what()));
+    }
+  }
+  return recovered;
 }
 
 int RemoteScanServer::connectionCount() const {
@@ -342,6 +384,10 @@ void RemoteScanServer::Private::onStartScan(Session& s, const StartScan& request
   ScanRequest scan_request;
   scan_request.lines = int(request.lines);
   scan_request.turntable_speed_deg_s = request.turntable_speed_deg_s;
+  // A real device journals every line as it arrives: a robot killed or powered off mid-scan
+  // keeps them, and recovers them when serve starts again.
+  QDir().mkpath(options.storage_dir);
+  scan_request.journal = journalPath(current->id).toStdString();
   device->startScan(scan_request);
 }
 
@@ -360,7 +406,7 @@ void RemoteScanServer::Private::onResume(Session& s, const Resume& resume) {
     // Not in memory: the robot restarted, or the scan is older than those it keeps. Its file may
     // still be on the robot's disk (a stopped robot saves the scan under way first).
     QString saved;
-    for (const QString& suffix : {QString(), QString("-partial")}) {
+    for (const QString& suffix : {QString(), QString("-partial"), QString("-recovered")}) {
       const QString path = QDir(options.storage_dir)
                                .filePath(QString("scan-%1%2.pcd").arg(resume.scan_id).arg(suffix));
       if (saved.isEmpty() && QFileInfo::exists(path)) saved = path;
@@ -418,7 +464,7 @@ void RemoteScanServer::Private::takeLines(const Scan& so_far) {
 void RemoteScanServer::Private::finishScan(std::shared_ptr<const Scan> scan, bool complete) {
   if (!current) return;
   takeLines(*scan);
-  current->pose = scan->sensor_pose;
+  if (scan->sensor_pose) current->pose = scan->sensor_pose;
   ScanFinished& result = current->result;
   result.scan_id = current->id;
   result.total_lines = std::uint32_t(current->lines.size());
@@ -438,8 +484,12 @@ void RemoteScanServer::Private::finishScan(std::shared_ptr<const Scan> scan, boo
     } catch (const std::exception& error) {
       result.complete = false;
       result.reason = QString("The robot could not save the scan: %1").arg(error.what());
+      if (QFileInfo::exists(journalPath(current->id)))
+        result.reason += QString(" (its lines are kept in %1)").arg(journalPath(current->id));
     }
   }
+  // Saved (or nothing arrived): the journal is no longer needed. Kept when the save failed.
+  if (!result.saved_as.isEmpty() || current->lines.empty()) QFile::remove(journalPath(current->id));
   current->finished = true;
   ++statistics.scans_finished;
   log(QString("scan %1 %2: %3 lines%4")

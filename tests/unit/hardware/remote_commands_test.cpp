@@ -1,7 +1,10 @@
 // clearway-cli serve and acquire --remote as processes, as an operator runs them.
 
 #include <QThread>
+#include <fstream>
+#include <string>
 
+#include "clearway/hardware/rosi_emulator.h"
 #include "remote_test_support.h"
 
 namespace clearway::hardware::remote {
@@ -147,6 +150,124 @@ TEST_F(RemoteCommands, ServeStoppedDuringAScanSavesItsLinesFirst) {
   const QString kept = QDir(dir_.filePath("slow-robot")).filePath(saved.front());
   EXPECT_GT(linesIn(kept), 0u);
   EXPECT_LT(linesIn(kept), std::size_t(kGarageLines));
+}
+
+// Journaled line records in a file (complete ones: a torn last line is not counted).
+std::size_t journaledLines(const QString& journal) {
+  std::ifstream in(journal.toStdString(), std::ios::binary);
+  std::size_t count = 0;
+  std::string line;
+  while (std::getline(in, line))
+    count += !in.eof() && line.rfind("L ", 0) == 0;
+  return count;
+}
+
+// serve on a real (emulated, serial) RoSi killed with SIGKILL mid-scan, as a power cut would:
+// the lines it had received were journaled in its storage folder, and serve recovers them when
+// it starts again (they used to be lost: only the scan's end saved anything).
+TEST_F(RemoteCommands, ServeKilledDuringAScanRecoversItsLinesWhenItStartsAgain) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {4.0, 7});
+  const QString storage = dir_.filePath("serial-robot");
+  const QStringList serve_arguments = {"serve",
+                                       "--credentials",
+                                       credentials_,
+                                       "--listen",
+                                       "127.0.0.1:0",
+                                       "--lms",
+                                       QString::fromStdString(emulator.lmsPort()),
+                                       "--turntable",
+                                       QString::fromStdString(emulator.turntablePort()),
+                                       "--storage",
+                                       storage};
+  QProcess serve;
+  serve.start(CLEARWAY_CLI, serve_arguments);
+  ASSERT_TRUE(serve.waitForStarted(kWaitMs));
+  ASSERT_TRUE(waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }));
+  const QString robot =
+      "127.0.0.1:" +
+      QString::fromUtf8(serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  QProcess acquire;
+  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
+                               "--lines", "423", "--give-up", "3", "-o", dir_.filePath("c.pcd")});
+  ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
+  QString journal;
+  ASSERT_TRUE(waitFor([&] {
+    const QStringList journals = QDir(storage).entryList({"scan-*.journal"});
+    if (journals.isEmpty()) return false;
+    journal = QDir(storage).filePath(journals.front());
+    return journaledLines(journal) >= 20;
+  })) << QString::fromUtf8(serve.readAllStandardError()).toStdString();
+  serve.kill();  // SIGKILL: no handler runs, nothing is saved on the way out
+  ASSERT_TRUE(serve.waitForFinished(kWaitMs));
+  const std::size_t journaled = journaledLines(journal);
+  acquire.kill();
+  acquire.waitForFinished(kWaitMs);
+  EXPECT_TRUE(QDir(storage).entryList({"scan-*.pcd"}).isEmpty()) << "nothing was saved";
+
+  QProcess again;
+  again.start(CLEARWAY_CLI, serve_arguments);
+  ASSERT_TRUE(again.waitForStarted(kWaitMs));
+  ASSERT_TRUE(waitFor([&] { return again.canReadLine() || again.waitForReadyRead(100); }));
+  // A scan that finishes leaves its file and no journal.
+  const QString restarted =
+      "127.0.0.1:" +
+      QString::fromUtf8(again.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  QProcess complete;
+  complete.start(CLEARWAY_CLI, {"acquire", "--remote", restarted, "--credentials", credentials_,
+                                "--lines", "100", "-o", dir_.filePath("complete.pcd")});
+  if (!complete.waitForFinished(20000)) {
+    again.terminate();
+    again.waitForFinished(kWaitMs);
+    FAIL() << complete.readAllStandardError().toStdString() << "\nserve:\n"
+           << again.readAllStandardError().toStdString();
+  }
+  EXPECT_EQ(complete.exitCode(), 0) << complete.readAllStandardError().toStdString();
+  EXPECT_TRUE(QDir(storage).entryList({"scan-*.journal"}).isEmpty());
+  again.terminate();
+  again.waitForFinished(kWaitMs);
+  const QString log = QString::fromUtf8(again.readAllStandardError());
+  const QStringList recovered = QDir(storage).entryList({"scan-*-recovered.pcd"});
+  ASSERT_EQ(recovered.size(), 1) << log.toStdString();
+  EXPECT_EQ(QDir(storage).entryList({"scan-*.pcd"}).size(), 2);  // and the complete one
+  EXPECT_TRUE(log.contains("recovered " + QFileInfo(journal).fileName())) << log.toStdString();
+  EXPECT_FALSE(QFile::exists(journal)) << "removed once its scan was saved";
+  // Every line journaled before the kill is in the scan (lines the laser sent between the count
+  // and the kill may add a few).
+  const std::size_t lines = linesIn(QDir(storage).filePath(recovered.front()));
+  EXPECT_GE(lines, journaled);
+  EXPECT_LT(lines, std::size_t(kGarageLines));
+}
+
+// A scan that fails before any line arrives (here a "laser" that never answers) ends with the
+// reason on the console, and the robot takes the next scan. The console used to wait forever,
+// and the server refused every later scan as "not ready".
+TEST_F(RemoteCommands, AScanThatFailsAtItsStartEndsWithTheReasonAndTheNextMayStart) {
+  // Two files that never answer stand for the two devices' ports.
+  for (const char* port : {"laser", "table"}) {
+    QFile file(dir_.filePath(port));
+    ASSERT_TRUE(file.open(QIODevice::WriteOnly));
+  }
+  QProcess serve;
+  serve.start(CLEARWAY_CLI, {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0",
+                             "--lms", dir_.filePath("laser"), "--turntable", dir_.filePath("table"),
+                             "--storage", dir_.filePath("silent-robot")});
+  ASSERT_TRUE(serve.waitForStarted(kWaitMs));
+  ASSERT_TRUE(waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }));
+  const QString robot =
+      "127.0.0.1:" +
+      QString::fromUtf8(serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    QProcess acquire;
+    acquire.start(CLEARWAY_CLI,
+                  {"acquire", "--remote", robot, "--credentials", credentials_, "--lines", "50",
+                   "-o", dir_.filePath(QString("silent-%1.pcd").arg(attempt))});
+    ASSERT_TRUE(acquire.waitForFinished(kWaitMs)) << "attempt " << attempt;
+    const QString err = QString::fromUtf8(acquire.readAllStandardError());
+    EXPECT_EQ(acquire.exitCode(), 1) << err.toStdString();
+    EXPECT_TRUE(err.contains("is not a serial port")) << err.toStdString();
+  }
+  serve.terminate();
+  serve.waitForFinished(kWaitMs);
 }
 
 // A second console asking for control while one has it is told so at once (it waited forever).

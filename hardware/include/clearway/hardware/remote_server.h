@@ -43,6 +43,12 @@ class RemoteScanServer : public QTcpServer {
   ServerStatistics statistics() const;
   int connectionCount() const;
 
+  // Scans a killed or powered-off robot left as journals in the storage folder (every line of a
+  // scan under way is journaled there as it arrives, docs/JOURNAL.md): each is saved as
+  // scan-ID-recovered.pcd and its journal removed, one log line each. Call before listening, so
+  // a console resuming such a scan is told where it is. Returns how many were recovered.
+  int recoverInterruptedScans();
+
  signals:
   // One line per event, for the log: connections, refusals with their reason, scans.
   void logMessage(const QString& line);
