@@ -42,17 +42,24 @@ class RemoteCommands : public ::testing::Test {
     return acquire.exitCode();
   }
 
-  // Starts a serve of its own scanning in real time (the fixture's runs 50 times faster, done
-  // before a test can interrupt it), saving into `storage`; its HOST:PORT, empty on failure.
-  QString startRealTimeRobot(QProcess& serve, const QString& storage) {
-    serve.start(CLEARWAY_CLI, {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0",
-                               "--simulate", "garage", "--storage", dir_.filePath(storage)});
+  // Starts `serve` with `arguments` (after "serve --credentials ... --listen 127.0.0.1:0"); its
+  // HOST:PORT once it listens, empty on failure.
+  QString startRobot(QProcess& serve, const QStringList& arguments) {
+    serve.start(
+        CLEARWAY_CLI,
+        QStringList{"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0"} + arguments);
     if (!serve.waitForStarted(kWaitMs) ||
         !waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }))
       return {};
     const QString port =
         QString::fromUtf8(serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
     return port.toInt() > 0 ? "127.0.0.1:" + port : QString();
+  }
+
+  // Starts a serve of its own scanning in real time (the fixture's runs 50 times faster, done
+  // before a test can interrupt it), saving into `storage`; its HOST:PORT, empty on failure.
+  QString startRealTimeRobot(QProcess& serve, const QString& storage) {
+    return startRobot(serve, {"--simulate", "garage", "--storage", dir_.filePath(storage)});
   }
 
   // Scan lines in a saved PCD (every return kept: none is the robot's own).
@@ -168,24 +175,12 @@ std::size_t journaledLines(const QString& journal) {
 TEST_F(RemoteCommands, ServeKilledDuringAScanRecoversItsLinesWhenItStartsAgain) {
   RosiEmulator emulator(*sim::builtinScene("garage"), {4.0, 7});
   const QString storage = dir_.filePath("serial-robot");
-  const QStringList serve_arguments = {"serve",
-                                       "--credentials",
-                                       credentials_,
-                                       "--listen",
-                                       "127.0.0.1:0",
-                                       "--lms",
-                                       QString::fromStdString(emulator.lmsPort()),
-                                       "--turntable",
-                                       QString::fromStdString(emulator.turntablePort()),
-                                       "--storage",
-                                       storage};
+  const QStringList serial_robot = {"--lms",       QString::fromStdString(emulator.lmsPort()),
+                                    "--turntable", QString::fromStdString(emulator.turntablePort()),
+                                    "--storage",   storage};
   QProcess serve;
-  serve.start(CLEARWAY_CLI, serve_arguments);
-  ASSERT_TRUE(serve.waitForStarted(kWaitMs));
-  ASSERT_TRUE(waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }));
-  const QString robot =
-      "127.0.0.1:" +
-      QString::fromUtf8(serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  const QString robot = startRobot(serve, serial_robot);
+  ASSERT_FALSE(robot.isEmpty());
   QProcess acquire;
   acquire.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
                                "--lines", "423", "--give-up", "3", "-o", dir_.filePath("c.pcd")});
@@ -205,17 +200,14 @@ TEST_F(RemoteCommands, ServeKilledDuringAScanRecoversItsLinesWhenItStartsAgain) 
   EXPECT_TRUE(QDir(storage).entryList({"scan-*.pcd"}).isEmpty()) << "nothing was saved";
 
   QProcess again;
-  again.start(CLEARWAY_CLI, serve_arguments);
-  ASSERT_TRUE(again.waitForStarted(kWaitMs));
-  ASSERT_TRUE(waitFor([&] { return again.canReadLine() || again.waitForReadyRead(100); }));
-  // A scan that finishes leaves its file and no journal.
-  const QString restarted =
-      "127.0.0.1:" +
-      QString::fromUtf8(again.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+  const QString restarted = startRobot(again, serial_robot);
+  ASSERT_FALSE(restarted.isEmpty());
+  // The restarted robot scans (the laser it left streaming is stopped first), and a scan that
+  // finishes leaves its file and no journal.
   QProcess complete;
   complete.start(CLEARWAY_CLI, {"acquire", "--remote", restarted, "--credentials", credentials_,
                                 "--lines", "100", "-o", dir_.filePath("complete.pcd")});
-  if (!complete.waitForFinished(20000)) {
+  if (!complete.waitForFinished(kWaitMs)) {
     again.terminate();
     again.waitForFinished(kWaitMs);
     FAIL() << complete.readAllStandardError().toStdString() << "\nserve:\n"
@@ -248,14 +240,10 @@ TEST_F(RemoteCommands, AScanThatFailsAtItsStartEndsWithTheReasonAndTheNextMaySta
     ASSERT_TRUE(file.open(QIODevice::WriteOnly));
   }
   QProcess serve;
-  serve.start(CLEARWAY_CLI, {"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0",
-                             "--lms", dir_.filePath("laser"), "--turntable", dir_.filePath("table"),
-                             "--storage", dir_.filePath("silent-robot")});
-  ASSERT_TRUE(serve.waitForStarted(kWaitMs));
-  ASSERT_TRUE(waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }));
   const QString robot =
-      "127.0.0.1:" +
-      QString::fromUtf8(serve.readLine()).section("127.0.0.1:", 1).section(' ', 0, 0);
+      startRobot(serve, {"--lms", dir_.filePath("laser"), "--turntable", dir_.filePath("table"),
+                         "--storage", dir_.filePath("silent-robot")});
+  ASSERT_FALSE(robot.isEmpty());
   for (int attempt = 0; attempt < 2; ++attempt) {
     QProcess acquire;
     acquire.start(CLEARWAY_CLI,
