@@ -93,9 +93,12 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
                                                    : nlohmann::ordered_json()},
                     {"confidence", analysis.up_confidence}};
   const TraversabilityMap& map = result.map;
+  // "guessed": no recorded robot frame; the reach starts from every orientation the box fits in
+  // at the robot's place.
   report["robot_pose"] = {{"x", map.robot_pose.x},
                           {"y", map.robot_pose.y},
-                          {"yaw_deg", map.robot_pose.yaw * 180.0 / std::numbers::pi}};
+                          {"yaw_deg", map.robot_pose.yaw * 180.0 / std::numbers::pi},
+                          {"heading", map.robot_heading_known ? "recorded" : "guessed"}};
   report["reach"] = {{"file", "reach.pgm"},
                      {"reachable_cells", map.reachable_cells},
                      {"fits_not_reachable_cells", map.fits_not_reachable_cells}};

@@ -158,6 +158,8 @@ TEST(CliAcquire, TheArmsPoseTravelsWithTheScanAndTheGarageDoorIsJudgedRight) {
   ASSERT_EQ(segmented.exit_code, 0) << segmented.err;
   const auto report = nlohmann::json::parse(test::readBytes(directory / "out" / "report.json"));
   EXPECT_EQ(report.at("ground_found"), true);
+  // The arm's pose gives the robot's frame: its heading is recorded, not guessed.
+  EXPECT_EQ(report.at("robot_pose").at("heading"), "recorded");
 
   // And the door: the 0.85 m robot gets through the 0.9 m door, the 1.0 m one does not.
   const Eigen::Vector3d inside{2.0, -1.0, 0.0}, outside{6.5, -1.0, 0.0};

@@ -146,6 +146,8 @@ TEST(PoseSources, TheCommandLineSaysWhereThePoseCameFrom) {
   const auto report = nlohmann::json::parse(test::readBytes(out / "report.json"));
   EXPECT_TRUE(report.at("ground_found").get<bool>());
   EXPECT_EQ(report.at("pose").at("source"), "command line");
+  // An up direction places the floor, not the robot: its heading is a guess.
+  EXPECT_EQ(report.at("robot_pose").at("heading"), "guessed");
 
   const auto none = test::runCli("segment " + test::shellQuote(file.string()) + " --up none -o " +
                                  test::shellQuote((folder / "none").string()));
