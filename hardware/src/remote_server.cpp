@@ -137,6 +137,19 @@ struct RemoteScanServer::Private {
   std::shared_ptr<ServerScan> findScan(std::uint64_t id) const;
 };
 
+namespace {
+
+// Whether a journal (docs/JOURNAL.md) holds any measured-values line record.
+bool journalHoldsLines(const QString& path) {
+  QFile file(path);
+  if (!file.open(QIODevice::ReadOnly)) return false;
+  while (!file.atEnd())
+    if (file.readLine().startsWith("L ")) return true;
+  return false;
+}
+
+}  // namespace
+
 RemoteScanServer::RemoteScanServer(ScannerDevice* device, RobotCredentials credentials,
                                    ServerOptions options, QObject* parent)
     : QTcpServer(parent), d_(std::make_unique<Private>()) {
@@ -488,8 +501,15 @@ void RemoteScanServer::Private::finishScan(std::shared_ptr<const Scan> scan, boo
         result.reason += QString(" (its lines are kept in %1)").arg(journalPath(current->id));
     }
   }
-  // Saved (or nothing arrived): the journal is no longer needed. Kept when the save failed.
-  if (!result.saved_as.isEmpty() || current->lines.empty()) QFile::remove(journalPath(current->id));
+  // Saved: the journal is no longer needed. Kept when the save failed, and when it holds lines
+  // the scan could not place (no turntable angle came with them), as `acquire` keeps them.
+  const QString journal = journalPath(current->id);
+  if (!result.saved_as.isEmpty() || !journalHoldsLines(journal))
+    QFile::remove(journal);
+  else
+    log(QString("scan %1: kept %2, which holds lines the scan could not place")
+            .arg(current->id)
+            .arg(journal));
   current->finished = true;
   ++statistics.scans_finished;
   log(QString("scan %1 %2: %3 lines%4")

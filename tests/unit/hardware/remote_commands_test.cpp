@@ -230,6 +230,34 @@ TEST_F(RemoteCommands, ServeKilledDuringAScanRecoversItsLinesWhenItStartsAgain) 
   EXPECT_LT(lines, std::size_t(kGarageLines));
 }
 
+// Lines that came without a turntable angle cannot be placed: the scan fails with nothing to
+// save, and the robot keeps their journal (as acquire does) instead of removing it.
+TEST_F(RemoteCommands, LinesWithoutAnAngleAreKeptInTheRobotsJournal) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  emulator.muteAngles(true);
+  const QString storage = dir_.filePath("muted-robot");
+  QProcess serve;
+  const QString robot =
+      startRobot(serve, {"--lms", QString::fromStdString(emulator.lmsPort()), "--turntable",
+                         QString::fromStdString(emulator.turntablePort()), "--storage", storage});
+  ASSERT_FALSE(robot.isEmpty());
+  QProcess acquire;
+  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
+                               "--lines", "100", "-o", dir_.filePath("muted.pcd")});
+  ASSERT_TRUE(acquire.waitForFinished(kWaitMs));
+  const QString err = QString::fromUtf8(acquire.readAllStandardError());
+  EXPECT_EQ(acquire.exitCode(), 1) << err.toStdString();
+  EXPECT_TRUE(err.contains("turntable")) << err.toStdString();
+  serve.terminate();
+  serve.waitForFinished(kWaitMs);
+  const QString log = QString::fromUtf8(serve.readAllStandardError());
+  EXPECT_TRUE(QDir(storage).entryList({"scan-*.pcd"}).isEmpty()) << log.toStdString();
+  const QStringList journals = QDir(storage).entryList({"scan-*.journal"});
+  ASSERT_EQ(journals.size(), 1) << log.toStdString();
+  EXPECT_GT(journaledLines(QDir(storage).filePath(journals.front())), 0u);
+  EXPECT_TRUE(log.contains("holds lines the scan could not place")) << log.toStdString();
+}
+
 // A scan that fails before any line arrives (here a "laser" that never answers) ends with the
 // reason on the console, and the robot takes the next scan. The console used to wait forever,
 // and the server refused every later scan as "not ready".
