@@ -1,7 +1,7 @@
 #pragma once
 
-// The reachability search, for computeTraversability: it owns the footprint tests, this owns the
-// search over (cell, orientation) states.
+// The reachability search, for computeTraversability (which owns the footprint tests) and the
+// goal query (path_planning.cpp): the search over (cell, orientation) states.
 
 #include <cstdint>
 #include <vector>
@@ -10,6 +10,10 @@
 #include "clearway/traversability/traversability_map.h"
 
 namespace clearway::detail {
+
+// The eight neighbours of a cell (column and row steps): the four sides first, then the corners.
+inline constexpr int kNeighbourColumns[8] = {1, -1, 0, 0, 1, 1, -1, -1};
+inline constexpr int kNeighbourRows[8] = {0, 0, 1, -1, 1, -1, 1, -1};
 
 // For each orientation, the orientations one turn step away (sorted by angle, modulo 180 deg).
 std::vector<std::vector<int>> turnNeighbours(const std::vector<double>& yaws);

@@ -32,14 +32,18 @@ class RemoteCommands : public ::testing::Test {
     serve_.waitForFinished(kWaitMs);
   }
 
-  // Runs acquire --remote; returns the exit code, stderr in `err`.
-  int acquire(const QStringList& extra, QString* err) {
+  // Runs acquire --remote against `robot` (HOST:PORT); returns the exit code (-1 if it did not end
+  // in time), stderr in `err`.
+  static int acquireFrom(const QString& robot, const QStringList& extra, QString* err) {
     QProcess acquire;
-    acquire.start(CLEARWAY_CLI,
-                  QStringList{"acquire", "--remote", QString("127.0.0.1:%1").arg(port_)} + extra);
-    acquire.waitForFinished(kWaitMs);
+    acquire.start(CLEARWAY_CLI, QStringList{"acquire", "--remote", robot} + extra);
+    const bool ended = acquire.waitForFinished(kWaitMs);
     if (err) *err = QString::fromUtf8(acquire.readAllStandardError());
-    return acquire.exitCode();
+    return ended ? acquire.exitCode() : -1;
+  }
+  // The same against the fixture's robot.
+  int acquire(const QStringList& extra, QString* err) {
+    return acquireFrom(QString("127.0.0.1:%1").arg(port_), extra, err);
   }
 
   // Starts `serve` with `arguments` (after "serve --credentials ... --listen 127.0.0.1:0"); its
@@ -241,12 +245,13 @@ TEST_F(RemoteCommands, LinesWithoutAnAngleAreKeptInTheRobotsJournal) {
       startRobot(serve, {"--lms", QString::fromStdString(emulator.lmsPort()), "--turntable",
                          QString::fromStdString(emulator.turntablePort()), "--storage", storage});
   ASSERT_FALSE(robot.isEmpty());
-  QProcess acquire;
-  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
-                               "--lines", "100", "-o", dir_.filePath("muted.pcd")});
-  ASSERT_TRUE(acquire.waitForFinished(kWaitMs));
-  const QString err = QString::fromUtf8(acquire.readAllStandardError());
-  EXPECT_EQ(acquire.exitCode(), 1) << err.toStdString();
+  QString err;
+  EXPECT_EQ(acquireFrom(
+                robot,
+                {"--credentials", credentials_, "--lines", "100", "-o", dir_.filePath("muted.pcd")},
+                &err),
+            1)
+      << err.toStdString();
   EXPECT_TRUE(err.contains("turntable")) << err.toStdString();
   serve.terminate();
   serve.waitForFinished(kWaitMs);
@@ -273,13 +278,13 @@ TEST_F(RemoteCommands, AScanThatFailsAtItsStartEndsWithTheReasonAndTheNextMaySta
                          "--storage", dir_.filePath("silent-robot")});
   ASSERT_FALSE(robot.isEmpty());
   for (int attempt = 0; attempt < 2; ++attempt) {
-    QProcess acquire;
-    acquire.start(CLEARWAY_CLI,
-                  {"acquire", "--remote", robot, "--credentials", credentials_, "--lines", "50",
-                   "-o", dir_.filePath(QString("silent-%1.pcd").arg(attempt))});
-    ASSERT_TRUE(acquire.waitForFinished(kWaitMs)) << "attempt " << attempt;
-    const QString err = QString::fromUtf8(acquire.readAllStandardError());
-    EXPECT_EQ(acquire.exitCode(), 1) << err.toStdString();
+    QString err;
+    EXPECT_EQ(acquireFrom(robot,
+                          {"--credentials", credentials_, "--lines", "50", "-o",
+                           dir_.filePath(QString("silent-%1.pcd").arg(attempt))},
+                          &err),
+              1)
+        << "attempt " << attempt << ": " << err.toStdString();
     EXPECT_TRUE(err.contains("is not a serial port")) << err.toStdString();
   }
   serve.terminate();
@@ -297,12 +302,13 @@ TEST_F(RemoteCommands, ASecondControllerIsToldAnotherConsoleControls) {
   ASSERT_TRUE(first.waitForStarted(kWaitMs));
   QString first_err;
   ASSERT_TRUE(waitForError(first, "in control", first_err)) << first_err.toStdString();
-  QProcess second;
-  second.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
-                              "--lines", "40", "-o", dir_.filePath("second.pcd")});
-  ASSERT_TRUE(second.waitForFinished(kWaitMs));
-  const QString err = QString::fromUtf8(second.readAllStandardError());
-  EXPECT_EQ(second.exitCode(), 1) << err.toStdString();
+  QString err;
+  EXPECT_EQ(acquireFrom(
+                robot,
+                {"--credentials", credentials_, "--lines", "40", "-o", dir_.filePath("second.pcd")},
+                &err),
+            1)
+      << err.toStdString();
   EXPECT_TRUE(err.contains("another console controls the scanner")) << err.toStdString();
   EXPECT_FALSE(QFile::exists(dir_.filePath("second.pcd")));
   first.terminate();
