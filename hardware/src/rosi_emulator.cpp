@@ -13,9 +13,11 @@
 #include <deque>
 #include <mutex>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 #include "clearway/hardware/lms200_protocol.h"
 #include "clearway/hardware/turntable_protocol.h"
@@ -67,6 +69,23 @@ sim::ScannerPlacement placementFor(const Eigen::Isometry3d& world_from_scanner) 
   return placement;
 }
 
+// The link speed an LMS200 operating mode switches to: its termios speed and baud; none for the
+// modes that are not a speed.
+std::optional<std::pair<speed_t, int>> baudOfMode(std::uint8_t mode) {
+  switch (mode) {
+    case lms200::kModeBaud9600:
+      return std::pair{speed_t(B9600), 9600};
+    case lms200::kModeBaud19200:
+      return std::pair{speed_t(B19200), 19200};
+    case lms200::kModeBaud38400:
+      return std::pair{speed_t(B38400), 38400};
+    case lms200::kModeBaud500k:
+      return std::pair{speed_t(B500000), 500000};
+    default:
+      return std::nullopt;
+  }
+}
+
 }  // namespace
 
 struct RosiEmulator::Impl {
@@ -92,6 +111,12 @@ struct RosiEmulator::Impl {
   std::string lms_out;
   std::uint64_t lms_out_written = 0;
   std::deque<std::uint64_t> line_ends;
+  // The laser's link speed (a termios speed_t): 9600 baud at power-up, changed by its operating
+  // mode telegrams after their reply, kept until power-off. Its queued output is sent at the
+  // speed it had when queued: where in the stream each speed's bytes end.
+  speed_t laser_speed = B9600;
+  std::atomic<int> laser_baud{9600};
+  std::deque<std::pair<std::uint64_t, speed_t>> speed_ends;
   std::thread thread;
 
   // Device state (the emulator's thread only).
@@ -169,16 +194,45 @@ struct RosiEmulator::Impl {
   void queueLms(const void* data, std::size_t size, bool is_line) {
     if (lms_out.size() + size > kMaxQueuedBytes) return;  // nobody reads any more: dropped whole
     lms_out.append(static_cast<const char*>(data), size);
-    if (is_line) line_ends.push_back(lms_out_written + lms_out.size());
+    const std::uint64_t end = lms_out_written + lms_out.size();
+    if (is_line) line_ends.push_back(end);
+    if (!speed_ends.empty() && speed_ends.back().second == laser_speed)
+      speed_ends.back().first = end;
+    else
+      speed_ends.emplace_back(end, laser_speed);
     flushLms();
   }
 
+  // The speed the driver set on its side of the terminal (the master reads the slave's settings).
+  speed_t driverSpeed() const {
+    termios settings{};
+    if (lms_fd < 0 || ::tcgetattr(lms_fd, &settings) != 0) return B0;
+    return ::cfgetospeed(&settings);
+  }
+
+  // What a UART set to another speed makes of a byte: another byte. A bijection under which no
+  // telegram survives (its checksum fails) and lone bytes may still read as ACK or NAK, as on a
+  // real line at the wrong speed.
+  static char garbled(char byte) {
+    const auto value = std::uint8_t(byte);
+    return char(std::uint8_t((value << 3) | (value >> 5)) ^ 0x5A);
+  }
+
   void flushLms() {
-    while (lms_fd >= 0 && !lms_out.empty()) {
-      const ssize_t n = ::write(lms_fd, lms_out.data(), lms_out.size());
+    while (lms_fd >= 0 && !lms_out.empty() && !speed_ends.empty()) {
+      const auto [run_end, run_speed] = speed_ends.front();
+      // At most what a terminal takes at once: a reader that fell behind leaves megabytes queued.
+      constexpr std::uint64_t kLargestWrite = 1 << 16;
+      const auto run = std::size_t(
+          std::min({run_end - lms_out_written, std::uint64_t(lms_out.size()), kLargestWrite}));
+      std::string bytes = lms_out.substr(0, run);
+      if (driverSpeed() != run_speed)
+        std::transform(bytes.begin(), bytes.end(), bytes.begin(), garbled);
+      const ssize_t n = ::write(lms_fd, bytes.data(), bytes.size());
       if (n <= 0) break;
       lms_out.erase(0, std::size_t(n));
       lms_out_written += std::uint64_t(n);
+      if (lms_out_written >= run_end) speed_ends.pop_front();
     }
     while (!line_ends.empty() && line_ends.front() <= lms_out_written) {
       line_ends.pop_front();
@@ -201,8 +255,13 @@ struct RosiEmulator::Impl {
         }
         if (mode == lms200::kModeContinuousOutput) continuous = true;
         if (mode == lms200::kModeValuesOnRequest) continuous = false;
+        // A new link speed takes effect after the reply, which still goes at the old one. It is
+        // told (laserBaud) before the reply can be read: whoever waited for it sees the new one.
+        const auto baud = baudOfMode(mode);
+        if (baud) laser_baud = baud->second;
         queueLms(&ack, 1, false);
         reply(0xA0, {0x00});
+        if (baud) laser_speed = baud->first;
         return;
       }
       case lms200::kSwitchVariant:
@@ -308,7 +367,8 @@ struct RosiEmulator::Impl {
       }
       if ((fds[0].revents & POLLIN) && !laser_stalled) {
         const ssize_t n = ::read(lms_fd, buffer, sizeof buffer);
-        if (n > 0)
+        // Sent at another speed than the laser's, the bytes are framing errors: it hears nothing.
+        if (n > 0 && driverSpeed() == laser_speed)
           for (const auto& event : lms_parser.feed(buffer, std::size_t(n)))
             if (event.kind == lms200::ParseEvent::Kind::kTelegram) handleLms(event.telegram);
       }
@@ -392,6 +452,9 @@ RigidPose RosiEmulator::worldFromScanner() const {
 }
 std::uint64_t RosiEmulator::linesSent() const {
   return impl_->lines_sent;
+}
+int RosiEmulator::laserBaud() const {
+  return impl_->laser_baud;
 }
 void RosiEmulator::stallLaser(bool stalled) {
   impl_->laser_stalled = stalled;

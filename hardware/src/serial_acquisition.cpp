@@ -5,6 +5,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -12,6 +13,8 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "clearway/hardware/lms200_protocol.h"
 #include "clearway/hardware/scan_journal.h"
@@ -82,37 +85,111 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
 }
 
 struct LinkSpeed {
+  int baud;
   std::uint8_t mode;  // the operating-mode telegram that switches the LMS200
   speed_t speed;      // the port's setting to follow it
 };
 
+constexpr LinkSpeed kPowerUpSpeed{9600, lms200::kModeBaud9600, B9600};
+constexpr LinkSpeed kLinkSpeeds[] = {kPowerUpSpeed,
+                                     {19200, lms200::kModeBaud19200, B19200},
+                                     {38400, lms200::kModeBaud38400, B38400},
+                                     {500000, lms200::kModeBaud500k, B500000}};
+
 std::optional<LinkSpeed> linkSpeed(int baud) {
-  switch (baud) {
-    case 9600:
-      return LinkSpeed{lms200::kModeBaud9600, B9600};
-    case 19200:
-      return LinkSpeed{lms200::kModeBaud19200, B19200};
-    case 38400:
-      return LinkSpeed{lms200::kModeBaud38400, B38400};
-    case 500000:
-      return LinkSpeed{lms200::kModeBaud500k, B500000};
-    default:
-      return std::nullopt;
-  }
+  for (const LinkSpeed& speed : kLinkSpeeds)
+    if (speed.baud == baud) return speed;
+  return std::nullopt;
 }
 
 // A laser left streaming (the process that started it killed mid-scan, the laser still powered)
 // fills the line with measured values, and the bytes of a telegram joined halfway read as ACK or
 // NAK: the first command was "refused". If anything arrives unasked, the laser is told to stop
-// its output (values on request) and the line is drained until it has been quiet a while.
-void quietTheLaser(SerialPort& lms, int timeout_ms) {
+// its output (values on request) and the line is drained until it has been quiet a while. False
+// when it never went quiet: the laser did not understand (it sends at another speed).
+bool quietTheLaser(SerialPort& lms, int timeout_ms) {
   constexpr int kQuietMs = 60;  // silence that says nothing more is coming
-  if (!waitReadable(lms.fd(), kQuietMs)) return;
+  if (!waitReadable(lms.fd(), kQuietMs)) return true;
   lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
   const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
-  while (Clock::now() < deadline && waitReadable(lms.fd(), kQuietMs))
+  while (Clock::now() < deadline) {
+    if (!waitReadable(lms.fd(), kQuietMs)) return true;
     lms.readAvailable();
+  }
+  return false;
 }
+
+// Finds the speed the laser listens at and enters its installation mode there. The LMS200 keeps
+// the speed it was switched to until it is powered off, so it starts at 9600 baud only after
+// power-up: an acquisition killed before it switched the laser back (or another program) leaves
+// it at another. Tried in turn: 9600, the speed this acquisition wants (what a killed one of ours
+// left), the others. Returns the speed it answered at.
+std::optional<LinkSpeed> findTheLaser(SerialPort& lms, lms200::Parser& parser,
+                                      const LinkSpeed& wanted, int timeout_ms, std::string& error) {
+  std::vector<LinkSpeed> order = {kPowerUpSpeed, wanted};
+  for (const LinkSpeed& speed : kLinkSpeeds)
+    order.push_back(speed);
+  std::string first_error, tried;
+  std::vector<int> tried_bauds;
+  for (const LinkSpeed& speed : order) {
+    if (std::find(tried_bauds.begin(), tried_bauds.end(), speed.baud) != tried_bauds.end())
+      continue;
+    if (!lms.setSpeed(speed.speed)) continue;  // a port that cannot run at this speed
+    tried_bauds.push_back(speed.baud);
+    tried += (tried.empty() ? "" : ", ") + std::to_string(speed.baud);
+    parser = lms200::Parser{};  // nothing heard at another speed carries over
+    std::string attempt_error;
+    if (!quietTheLaser(lms, timeout_ms))
+      attempt_error = "the laser scanner's line on " + lms.path() + " never went quiet at " +
+                      std::to_string(speed.baud) + " baud (a laser sending at another speed?)";
+    else if (request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout_ms, attempt_error))
+      return speed;
+    if (first_error.empty()) first_error = attempt_error;
+  }
+  error = first_error + " (tried at " + tried + " baud)";
+  return std::nullopt;
+}
+
+// The laser's side of one acquisition. However it ends, the laser's output is stopped and, unless
+// it stopped answering, it is switched back to 9600 baud: the next acquisition, or another
+// program, finds it at the speed it has after power-up.
+class LaserSession {
+ public:
+  // `parser`: the acquisition's, in step with the stream (a new one would read the tail of a
+  // measured-values telegram, cut anywhere, as ACK or NAK).
+  LaserSession(SerialPort& lms, lms200::Parser& parser, int timeout_ms)
+      : lms_(lms), parser_(parser), timeout_ms_(timeout_ms) {}
+  ~LaserSession() { release(); }
+  LaserSession(const LaserSession&) = delete;
+  LaserSession& operator=(const LaserSession&) = delete;
+
+  void atSpeed(const LinkSpeed& speed) { speed_ = speed; }
+  void lost() { answering_ = false; }
+  void release() {
+    if (released_) return;
+    released_ = true;
+    if (!answering_) {
+      lms_.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
+      return;
+    }
+    std::string ignored;
+    if (!request(lms_, parser_, lms200::changeOperatingMode(lms200::kModeValuesOnRequest), 0xA0,
+                 timeout_ms_, ignored) ||
+        speed_.baud == kPowerUpSpeed.baud)
+      return;
+    if (request(lms_, parser_, lms200::changeOperatingMode(kPowerUpSpeed.mode), 0xA0, timeout_ms_,
+                ignored))
+      lms_.setSpeed(kPowerUpSpeed.speed);
+  }
+
+ private:
+  SerialPort& lms_;
+  lms200::Parser& parser_;
+  int timeout_ms_;
+  LinkSpeed speed_ = kPowerUpSpeed;
+  bool answering_ = true;
+  bool released_ = false;
+};
 
 bool stopRequested(int stop_fd) {
   return stop_fd >= 0 && waitReadable(stop_fd, 0);
@@ -144,7 +221,6 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     return result;
   }
   const int timeout = options.answer_timeout_ms;
-  quietTheLaser(lms, timeout);
   lms200::Parser parser;
   std::string& error = result.error;
   const auto interrupted = [&] {
@@ -153,10 +229,16 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     error = "stopped by a signal after " + std::to_string(result.lines_received) + " lines";
     return true;
   };
-  // The laser: installation mode, its link speed, the 180 deg / 0.5 deg variant.
-  if (!request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout, error) ||
-      !request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error) ||
-      !lms.setSpeed(link->speed) ||
+  // The laser: found at its speed in installation mode, switched to the link speed and the
+  // 180 deg / 0.5 deg variant.
+  const std::optional<LinkSpeed> found = findTheLaser(lms, parser, *link, timeout, error);
+  if (!found) return result;
+  LaserSession laser(lms, parser, timeout);
+  laser.atSpeed(*found);
+  if (!request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error))
+    return result;
+  laser.atSpeed(*link);
+  if (!lms.setSpeed(link->speed) ||
       !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) || interrupted())
     return result;
   // The table: home, speed, turn.
@@ -273,10 +355,12 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     // out first (the turntable, when the laser's cable was pulled).
     if (fds[0].revents & (POLLHUP | POLLERR)) {
       error = "the laser scanner's line hung up (cable pulled, or the device gone)" + so_far;
+      laser.lost();
       break;
     }
     if (silent(last_line)) {
       error = "the laser scanner stopped answering" + so_far;
+      laser.lost();
       break;
     }
     if (silent(last_angle)) {
@@ -300,7 +384,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     }
   }
   // Stop the devices whatever happened; they may not answer any more.
-  lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
+  laser.release();
   table.stop();
   if (!result.complete) assembler.finishIncomplete();
   assembler.refine();

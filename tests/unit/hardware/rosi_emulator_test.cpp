@@ -28,7 +28,14 @@ class Port {
     termios settings{};
     ::tcgetattr(fd_, &settings);
     ::cfmakeraw(&settings);
+    ::cfsetspeed(&settings, B9600);  // the laser's speed after power-up
     ::tcsetattr(fd_, TCSANOW, &settings);
+  }
+  void setSpeed(speed_t speed) {
+    termios settings{};
+    ::tcgetattr(fd_, &settings);
+    ::cfsetspeed(&settings, speed);
+    ::tcsetattr(fd_, TCSADRAIN, &settings);
   }
   ~Port() { ::close(fd_); }
   bool open() const { return fd_ >= 0; }
@@ -81,6 +88,38 @@ TEST(RosiEmulator, AnswersTelegramsWithAckAndReplies) {
   events = parse(parser, lms.receive(200ms));
   ASSERT_FALSE(events.empty());
   EXPECT_EQ(events.front().kind, ParseEvent::Kind::kRefused);
+}
+
+TEST(RosiEmulator, KeepsTheLinkSpeedItWasSwitchedToAndHearsNothingAtAnother) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {10.0, 1});
+  Port lms(emulator.lmsPort());
+  lms200::Parser parser;
+  const auto answered = [&](std::uint8_t command) {
+    const auto events = parse(parser, lms.receive(200ms));
+    return std::any_of(events.begin(), events.end(), [&](const ParseEvent& event) {
+      return event.kind == ParseEvent::Kind::kTelegram && event.telegram.command == command;
+    });
+  };
+  EXPECT_EQ(emulator.laserBaud(), 9600);
+  lms.send(lms200::changeOperatingMode(lms200::kModeBaud38400));
+  EXPECT_TRUE(answered(0xA0)) << "the reply still comes at the old speed";
+  EXPECT_EQ(emulator.laserBaud(), 38400);
+  lms.send(lms200::requestStatus());
+  EXPECT_FALSE(answered(0xB1)) << "asked at 9600, a laser at 38400 hears nothing";
+  lms.setSpeed(B38400);
+  lms.send(lms200::requestStatus());
+  EXPECT_TRUE(answered(0xB1));
+  // Its stream at 38400 reaches a port at 9600 as bytes, but never as a telegram.
+  lms.send(lms200::changeOperatingMode(lms200::kModeContinuousOutput));
+  EXPECT_TRUE(answered(0xA0));
+  lms.setSpeed(B9600);
+  lms.receive(50ms);
+  const std::string garbled = lms.receive(300ms);
+  EXPECT_GT(garbled.size(), 1000u);
+  const auto events = parse(parser, garbled);
+  EXPECT_TRUE(std::none_of(events.begin(), events.end(), [](const ParseEvent& event) {
+    return event.kind == ParseEvent::Kind::kTelegram;
+  }));
 }
 
 TEST(RosiEmulator, StreamsMeasuredValuesOfTheSceneWhileTheTableTurns) {

@@ -3,8 +3,15 @@
 
 #include <gtest/gtest.h>
 
-#include <cmath>
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <cmath>
+#include <thread>
+
+#include "clearway/hardware/lms200_protocol.h"
 #include "clearway/hardware/rosi_emulator.h"
 #include "clearway/hardware/serial_acquisition.h"
 #include "clearway/hardware/serial_turntable.h"
@@ -102,6 +109,51 @@ TEST(SerialAcquisition, RunsAt500kBaudAndRefusesSpeedsTheLms200DoesNotHave) {
   options.baud = 115200;
   const Acquisition wrong = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
   EXPECT_NE(wrong.error.find("cannot run at 115200"), std::string::npos) << wrong.error;
+}
+
+// What a program killed mid-scan leaves: the laser switched to 19200 baud and streaming, its port
+// closed without a word more.
+void leaveTheLaserStreamingAt19200(const std::string& port) {
+  const int fd = ::open(port.c_str(), O_RDWR | O_NOCTTY);
+  ASSERT_GE(fd, 0) << port;
+  termios settings{};
+  ::tcgetattr(fd, &settings);
+  ::cfmakeraw(&settings);
+  ::cfsetspeed(&settings, B9600);
+  ::tcsetattr(fd, TCSANOW, &settings);
+  const auto send = [fd](const lms200::Bytes& telegram) {
+    ASSERT_EQ(::write(fd, telegram.data(), telegram.size()), ssize_t(telegram.size()));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));  // its answer, unread
+  };
+  send(lms200::changeOperatingMode(lms200::kModeBaud19200));
+  ::cfsetspeed(&settings, B19200);
+  ::tcsetattr(fd, TCSADRAIN, &settings);
+  send(lms200::changeOperatingMode(lms200::kModeContinuousOutput));
+  ::close(fd);
+}
+
+// The LMS200 keeps the speed it was switched to until it is powered off. Each acquisition leaves it
+// at 9600 baud, where the next one (or another program) looks first; a laser left at another speed
+// by a process killed mid-scan, or by another program, is found there.
+TEST(SerialAcquisition, TheLaserIsLeftAt9600BaudAndFoundAtWhateverSpeedItWasLeftAt) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.lines = 30;
+  options.answer_timeout_ms = 400;
+  for (const int baud : {38400, 500000}) {
+    options.baud = baud;
+    const Acquisition scan = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+    EXPECT_TRUE(scan.complete) << baud << ": " << scan.error;
+    EXPECT_EQ(emulator.laserBaud(), 9600) << "after a scan at " << baud;
+  }
+  // Left at 19200 and streaming by a program that then died: the next scan at 38400 finds it.
+  leaveTheLaserStreamingAt19200(emulator.lmsPort());
+  EXPECT_EQ(emulator.laserBaud(), 19200);
+  options.baud = 38400;
+  const Acquisition next = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  EXPECT_TRUE(next.complete) << next.error;
+  EXPECT_EQ(next.scan.lines.size(), 30u);
+  EXPECT_EQ(emulator.laserBaud(), 9600);
 }
 
 // Another controller behind the Turntable interface: it turns at 900 deg/s by the clock.

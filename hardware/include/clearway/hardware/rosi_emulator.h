@@ -1,9 +1,9 @@
 #pragma once
 
 // An emulated RoSi on two pseudo-terminals: an LMS200 (real telegrams, CRC, ACK/NAK, operating
-// modes, the 180 deg / 0.5 deg variant, continuous measured values at 37.5 lines/s x speed-up) and
-// the turntable (docs/TURNTABLE.md), both observing a simulated scene. Drivers under test open the
-// two ports as they would open the real devices.
+// modes, link speeds kept until power-off, the 180 deg / 0.5 deg variant, continuous measured
+// values at 37.5 lines/s x speed-up) and the turntable (docs/TURNTABLE.md), both observing a
+// simulated scene. Drivers under test open the two ports as they would open the real devices.
 //
 // The LMS200 reports 361 values over 180 deg; the RoSi uses the half from 90 to 180 deg, which is
 // alpha 0 .. 90 deg of the simulator. The other half looks at the mount and reports no echo.
@@ -58,6 +58,9 @@ class RosiEmulator {
   // Measured-values lines written whole to the laser's port so far: the emulator's own count
   // that tests hold an acquisition's journal against.
   std::uint64_t linesSent() const;
+  // The laser's link speed now: 9600 baud at power-up, then what its last speed telegram set.
+  // Bytes the driver sends at another speed go unheard; the laser's reach it garbled.
+  int laserBaud() const;
 
   // Fault injection for driver tests.
   void stall(bool stalled);                 // stop answering and sending, as a hung device
