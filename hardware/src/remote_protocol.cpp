@@ -205,10 +205,25 @@ Frame encode(const Resume& message) {
   return frameOf(MessageType::kResume, w);
 }
 
+namespace {
+
+// A pose on the wire: has pose u8, then position 3 x f64 and rotation 9 x f64 row-major.
+void writePose(Writer& w, const std::optional<SensorPose>& pose) {
+  w.u8(pose ? 1 : 0);
+  if (!pose) return;
+  for (const double v : pose->position)
+    w.f64(v);
+  for (const double v : pose->rotation)
+    w.f64(v);
+}
+
+}  // namespace
+
 Frame encode(const ScanStarted& message) {
   Writer w;
   w.u64(message.scan_id);
   w.u32(message.expected_lines);
+  writePose(w, message.pose);
   return frameOf(MessageType::kScanStarted, w);
 }
 
@@ -237,13 +252,7 @@ Frame encode(const ScanFinished& message) {
   w.u64(message.scan_id);
   w.u32(message.total_lines);
   w.u8(message.complete ? 1 : 0);
-  w.u8(message.pose ? 1 : 0);
-  if (message.pose) {
-    for (const double v : message.pose->position)
-      w.f64(v);
-    for (const double v : message.pose->rotation)
-      w.f64(v);
-  }
+  writePose(w, message.pose);
   w.text(message.saved_as);
   w.text(message.reason);
   return frameOf(MessageType::kScanFinished, w);
@@ -313,12 +322,30 @@ Resume decodeResume(const Frame& frame) {
   return message;
 }
 
+namespace {
+
+// The pose writePose() wrote.
+std::optional<SensorPose> readPose(Reader& r) {
+  const std::uint8_t has_pose = r.u8();
+  if (has_pose > 1) throw ProtocolError("a flag is neither 0 nor 1");
+  if (has_pose == 0) return std::nullopt;
+  SensorPose pose;
+  for (double& v : pose.position)
+    v = r.finite("the pose");
+  for (double& v : pose.rotation)
+    v = r.finite("the pose");
+  return pose;
+}
+
+}  // namespace
+
 ScanStarted decodeScanStarted(const Frame& frame) {
   Reader r(frame, MessageType::kScanStarted);
   ScanStarted message;
   message.scan_id = r.u64();
   message.expected_lines = r.u32();
   if (message.expected_lines > kMaxLinesPerScan) throw ProtocolError("expected lines out of range");
+  message.pose = readPose(r);
   r.end();
   return message;
 }
@@ -368,17 +395,10 @@ ScanFinished decodeScanFinished(const Frame& frame) {
   message.scan_id = r.u64();
   message.total_lines = r.u32();
   if (message.total_lines > kMaxLinesPerScan) throw ProtocolError("total lines out of range");
-  const std::uint8_t complete = r.u8(), has_pose = r.u8();
-  if (complete > 1 || has_pose > 1) throw ProtocolError("a flag is neither 0 nor 1");
+  const std::uint8_t complete = r.u8();
+  if (complete > 1) throw ProtocolError("a flag is neither 0 nor 1");
   message.complete = complete == 1;
-  if (has_pose == 1) {
-    SensorPose pose;
-    for (double& v : pose.position)
-      v = r.finite("the pose");
-    for (double& v : pose.rotation)
-      v = r.finite("the pose");
-    message.pose = pose;
-  }
+  message.pose = readPose(r);
   message.saved_as = r.text("the saved file");
   message.reason = r.text("the reason");
   r.end();

@@ -251,14 +251,18 @@ void RemoteRosi::Private::onFrame(const Frame& frame) {
       return;
     case MessageType::kScanStarted: {
       const ScanStarted started = decodeScanStarted(frame);
-      if (scan_id == started.scan_id) return;  // a resumption repeats it
-      if (scan_id != 0) return;                // another scan while ours runs: not ours
-      scan_id = started.scan_id;
-      expected = started.expected_lines;
-      short_finish_retries = 0;
-      start_pending = false;
-      scan = std::make_shared<Scan>();
-      q->setState(State::kScanning);
+      if (scan_id != 0 && scan_id != started.scan_id) return;  // another scan while ours runs
+      if (scan_id == 0) {
+        scan_id = started.scan_id;
+        expected = started.expected_lines;
+        short_finish_retries = 0;
+        start_pending = false;
+        scan = std::make_shared<Scan>();
+        q->setState(State::kScanning);
+      }
+      // Repeated with the pose once the robot knows it, and on a resumption: the lines held, even
+      // a partial scan kept after the link is lost for good, carry it.
+      if (started.pose && scan) scan->sensor_pose = started.pose;
       return;
     }
     case MessageType::kLines:

@@ -393,7 +393,7 @@ void RemoteScanServer::Private::onStartScan(Session& s, const StartScan& request
   current->expected = request.lines;
   last_failure.clear();
   log(QString("%1: scan %2 started (%3 lines)").arg(s.peer).arg(current->id).arg(request.lines));
-  broadcast(encode(ScanStarted{current->id, current->expected}));
+  broadcast(encode(ScanStarted{current->id, current->expected, std::nullopt}));
   ScanRequest scan_request;
   scan_request.lines = int(request.lines);
   scan_request.turntable_speed_deg_s = request.turntable_speed_deg_s;
@@ -442,7 +442,7 @@ void RemoteScanServer::Private::onResume(Session& s, const Resume& resume) {
     return;
   }
   log(QString("%1: resumes scan %2 from line %3").arg(s.peer).arg(scan->id).arg(resume.from_line));
-  if (!scan->finished) send(s, encode(ScanStarted{scan->id, scan->expected}));
+  if (!scan->finished) send(s, encode(ScanStarted{scan->id, scan->expected, scan->pose}));
   sendLines(&s, *scan, resume.from_line);
   if (scan->finished) send(s, encode(scan->result));
 }
@@ -470,7 +470,11 @@ void RemoteScanServer::Private::takeLines(const Scan& so_far) {
   std::vector<LineRecord> added = encodeScanLines(so_far, had, so_far.lines.size() - had);
   for (LineRecord& line : added)
     current->lines.push_back(std::move(line));
+  // The pose comes with the first lines (a serial RoSi reads it from the arm as it starts): told
+  // before them, so a console that loses the link keeps its partial scan with its pose.
+  const bool pose_learnt = !current->pose && so_far.sensor_pose;
   current->pose = so_far.sensor_pose;
+  if (pose_learnt) broadcast(encode(ScanStarted{current->id, current->expected, current->pose}));
   sendLines(nullptr, *current, had);
 }
 

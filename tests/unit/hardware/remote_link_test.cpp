@@ -259,6 +259,13 @@ TEST_F(RemoteLink, DisconnectingMidScanKeepsWhatArrivedAndTheRobotItsCopy) {
   ASSERT_TRUE(result.done);  // handed over at once, marked incomplete
   EXPECT_FALSE(result.complete);
   EXPECT_GE(result.scan->lines.size(), 40U);
+  // The pose came before the lines (the robot's ScanStarted repeated with it): the partial scan
+  // is judged from where it was taken, not as a scan without pose.
+  const Scan expected = simulatorScan(kGarageLines);
+  ASSERT_TRUE(expected.sensor_pose.has_value());
+  ASSERT_TRUE(result.scan->sensor_pose.has_value());
+  EXPECT_EQ(result.scan->sensor_pose->position, expected.sensor_pose->position);
+  EXPECT_EQ(result.scan->sensor_pose->rotation, expected.sensor_pose->rotation);
   EXPECT_EQ(rosi.state(), ScannerDevice::State::kDisconnected);
   ASSERT_TRUE(waitFor([&] { return !saved.isEmpty(); }));  // the robot saved its copy
 }

@@ -60,7 +60,14 @@ TEST(RemoteProtocol, EveryMessageRoundTrips) {
   const Resume resume = decodeResume(roundTrip(encode(Resume{7, 123})));
   EXPECT_EQ(resume.scan_id, 7U);
   EXPECT_EQ(resume.from_line, 123U);
-  EXPECT_EQ(decodeScanStarted(roundTrip(encode(ScanStarted{9, 423}))).expected_lines, 423U);
+  EXPECT_EQ(decodeScanStarted(roundTrip(encode(ScanStarted{9, 423, {}}))).expected_lines, 423U);
+  EXPECT_FALSE(decodeScanStarted(roundTrip(encode(ScanStarted{9, 423, {}}))).pose.has_value());
+  const SensorPose arm_pose{{0.4, -0.1, 1.2}, {0, -1, 0, 1, 0, 0, 0, 0, 1}};
+  const ScanStarted started_back =
+      decodeScanStarted(roundTrip(encode(ScanStarted{9, 0, arm_pose})));
+  ASSERT_TRUE(started_back.pose.has_value());
+  EXPECT_EQ(started_back.pose->position, arm_pose.position);
+  EXPECT_EQ(started_back.pose->rotation, arm_pose.rotation);
   EXPECT_EQ(decodeText(roundTrip(encodeText(MessageType::kRefused, "why"))), "why");
   EXPECT_EQ(decodeStamp(roundTrip(encodeStamp(MessageType::kPing, 1234567))), 1234567U);
 
@@ -148,6 +155,12 @@ TEST(RemoteProtocol, FieldsOutOfRangeAreRefused) {
   Frame role = encode(Hello{});
   role.payload[0] = char(5);
   EXPECT_THROW(decodeHello(role), ProtocolError);
+  Frame pose_flag = encode(ScanStarted{1, 10, {}});
+  pose_flag.payload[12] = char(2);  // "has pose" is neither 0 nor 1
+  EXPECT_THROW(decodeScanStarted(pose_flag), ProtocolError);
+  Frame no_pose_flag = encode(ScanStarted{1, 10, {}});
+  no_pose_flag.payload.chop(1);  // a version 1 ScanStarted
+  EXPECT_THROW(decodeScanStarted(no_pose_flag), ProtocolError);
 }
 
 TEST(RemoteProtocol, A76kPointScanIsCompactAndKeepsEveryPointToTheMillimetre) {

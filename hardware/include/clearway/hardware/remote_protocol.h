@@ -18,7 +18,10 @@
 namespace clearway::hardware::remote {
 
 // Version 1 is the first; a frame of any other version is refused with a reason.
-constexpr std::uint16_t kProtocolVersion = 1;
+// Version 2: ScanStarted carries the scan's pose once the robot knows it (a console that loses the
+// link mid-scan keeps its partial scan with the pose). A peer of another version is refused with
+// both versions named.
+constexpr std::uint16_t kProtocolVersion = 2;
 // Bytes before a frame's payload: uint32 length (of version + type + payload), uint16 version,
 // uint8 type. All integers big-endian.
 constexpr int kLengthBytes = 4;
@@ -109,6 +112,9 @@ struct Resume {
 struct ScanStarted {
   std::uint64_t scan_id = 0;
   std::uint32_t expected_lines = 0;
+  // The scan's sensor pose, once the robot knows it: it is repeated, with the pose, before the
+  // first lines (a serial RoSi reads it from the arm as the scan starts) and on a Resume.
+  std::optional<SensorPose> pose;
 };
 
 // One scan line as the wire carries it, at the LMS200's own resolution: ranges in millimetres,
