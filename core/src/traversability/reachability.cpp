@@ -316,11 +316,14 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
       const std::ptrdiff_t* const last = crossed_steps.data() + first_step[p + 1];
       std::size_t next = cell;
       if (inner) {
+        // A cell crossed is looked at: reached on the way, or (below) where the move stopped.
         for (const std::ptrdiff_t* step = first; step != last; ++step) {
           next = std::size_t(std::ptrdiff_t(cell) + *step);
-          looked_of[next] = 1;
           m &= open_of[next];
-          if (!m) break;
+          if (!m) {
+            looked_of[next] = 1;
+            break;
+          }
           reach_of[next] = 1;  // the box stands there on its way
         }
       } else {
@@ -346,6 +349,8 @@ void searchByMasks(TraversabilityMap& map, const std::vector<std::uint8_t>& pose
       }
     }
   }
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    looked[cell] |= reach_of[cell];
   keepLookedAtFits(map, pose_fits, looked, start_cell);
 }
 
