@@ -109,17 +109,10 @@ bool readGoal(const QCommandLineParser& parser, std::optional<QPointF>& goal) {
   return true;
 }
 
-// Clicks at two map positions with the measuring tool on, as the operator would.
+// Measures between two map positions, exactly: clicks at them would be placed to a pixel.
 void measureOnMap(clearway::ui::MapView& map, const std::vector<double>& points) {
   map.setMeasuring(true);
-  for (int k = 0; k < 2; ++k) {
-    const QPoint at = map.toWidget(points[2 * k], points[2 * k + 1]).toPoint();
-    QMouseEvent press(QEvent::MouseButtonPress, at, Qt::LeftButton, Qt::LeftButton, Qt::NoModifier);
-    QMouseEvent release(QEvent::MouseButtonRelease, at, Qt::LeftButton, Qt::NoButton,
-                        Qt::NoModifier);
-    QApplication::sendEvent(&map, &press);
-    QApplication::sendEvent(&map, &release);
-  }
+  map.measureBetween(QPointF(points[0], points[1]), QPointF(points[2], points[3]));
 }
 
 }  // namespace

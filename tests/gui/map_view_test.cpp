@@ -7,6 +7,7 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QStandardPaths>
+#include <QStatusBar>
 #include <QtTest>
 #include <cmath>
 
@@ -19,6 +20,8 @@
 
 using namespace clearway::ui;
 using clearway::CellLabel;
+using clearway::robotFits;
+using clearway::TraversabilityMap;
 
 namespace {
 
@@ -141,7 +144,19 @@ class MapViewTest : public QObject {
     click(map, map->toWidget(1.0, -2.0).toPoint());
     click(map, map->toWidget(1.0, 1.0).toPoint());
     QCOMPARE(measured.count(), 1);
-    QVERIFY(std::abs(measured.takeFirst().at(0).toDouble() - 3.0) < 2.0 / map->pixelsPerMetre());
+    const QList<QVariant> by_clicks = measured.takeFirst();
+    QVERIFY(std::abs(by_clicks.at(0).toDouble() - 3.0) < 2.0 / map->pixelsPerMetre());
+    // Clicks are placed to a pixel: the distance is good to a pixel's size, and says so.
+    QCOMPARE(by_clicks.at(1).toDouble(), 1.0 / map->pixelsPerMetre());
+    const QString said = window_->statusBar()->currentMessage();
+    QVERIFY2(said.contains("±") && said.contains("zoom in"), qPrintable(said));
+    // Two points given exactly (--measure) are measured exactly: the garage door, 0.80 m.
+    map->measureBetween(QPointF(3.3, -0.9), QPointF(3.3, -0.1));
+    QCOMPARE(measured.count(), 1);
+    const QList<QVariant> exact = measured.takeFirst();
+    QVERIFY(std::abs(exact.at(0).toDouble() - 0.8) < 1e-12);
+    QCOMPARE(exact.at(1).toDouble(), 0.0);
+    QCOMPARE(window_->statusBar()->currentMessage(), QString("Distance: 0.80 m"));
     map->setMeasuring(false);
   }
 
@@ -188,6 +203,25 @@ class MapViewTest : public QObject {
     const QImage after = map->grab().toImage();
     QVERIFY(before != after);
     map->setPath({});
+  }
+
+  // Every cell the robot fits on but cannot get to is dimmed, whatever its colour: a scan whose
+  // reach is all sparse ground showed 45,658 out-of-reach orange cells at full colour.
+  void everyCellTheRobotFitsOnIsDimmedOutOfReach() {
+    TraversabilityMap map;
+    map.grid.width = 5;
+    map.grid.height = 1;
+    map.grid.resolution = 0.05;
+    map.labels = {std::uint8_t(CellLabel::kTraversable), std::uint8_t(CellLabel::kCareful),
+                  std::uint8_t(CellLabel::kObstacle), std::uint8_t(CellLabel::kImpassable),
+                  std::uint8_t(CellLabel::kUnknown)};
+    const std::vector<std::uint8_t> nowhere(5, 0), everywhere(5, 1);
+    const QImage reached = mapImage(map, PaletteKind::kColourBlindSafe, everywhere);
+    const QImage out_of_reach = mapImage(map, PaletteKind::kColourBlindSafe, nowhere);
+    for (int column = 0; column < 5; ++column) {
+      const bool fits = robotFits(CellLabel(map.labels[std::size_t(column)]));
+      QCOMPARE(reached.pixel(column, 0) != out_of_reach.pixel(column, 0), fits);
+    }
   }
 
   // Defect 6: under deuteranopia (Machado 2009) every pair of classes stays apart.

@@ -200,11 +200,18 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
     if (d_->withheld) text += tr(" — up direction not confirmed: nothing shown as traversable");
     d_->hover->setText(text);
   });
-  const auto show_distance = [this](double metres) {
-    statusBar()->showMessage(tr("Distance: %1 m").arg(metres, 0, 'f', 2));
+  // Two decimals only where the clicks are that good: at a zoom of 3 cm a pixel a 0.80 m door
+  // measured 0.83 m, and read as wider than it is.
+  const auto show_distance = [this](double metres, double uncertainty) {
+    const int decimals = uncertainty <= 0.005 ? 2 : 1;
+    QString text = tr("Distance: %1 m").arg(metres, 0, 'f', decimals);
+    if (uncertainty > 0.0)
+      text += tr(" (± %1 m at this zoom: zoom in to measure finer)").arg(uncertainty, 0, 'f', 2);
+    statusBar()->showMessage(text);
   };
   connect(d_->map, &MapView::measured, this, show_distance);
-  connect(d_->scene, &SceneView::measured, this, show_distance);
+  connect(d_->scene, &SceneView::measured, this,
+          [show_distance](double metres) { show_distance(metres, 0.0); });
   connect(d_->scene, &SceneView::pointPicked, this,
           [this](double x, double y, double z, const QString& what) {
             if (d_->floor_action->isChecked()) {

@@ -148,8 +148,8 @@ int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette) {
       {CellLabel::kUnknown, QObject::tr("not seen enough")}};
   constexpr int kSwatch = 14, kRow = 18;
   painter.save();
-  const int rows = int(std::size(entries)) + 1;
-  painter.fillRect(QRect(top_left - QPoint(4, 4), QSize(150, rows * kRow + 6)),
+  const int rows = int(std::size(entries)) + 2;
+  painter.fillRect(QRect(top_left - QPoint(4, 4), QSize(170, rows * kRow + 6)),
                    QColor(0, 0, 0, 160));
   int y = top_left.y();
   for (const auto& [label, name] : entries) {
@@ -171,6 +171,15 @@ int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette) {
     painter.drawText(QPoint(top_left.x() + kSwatch + 6, y + kSwatch - 2), name);
     y += kRow;
   }
+  // Faded: the robot fits there but cannot get there from where it stands.
+  const QRect faded(top_left.x(), y, kSwatch, kSwatch);
+  painter.fillRect(faded, dimmedColour(cellColour(CellLabel::kTraversable, palette), palette));
+  painter.fillRect(faded.adjusted(kSwatch / 2, 0, 0, 0),
+                   dimmedColour(cellColour(CellLabel::kObstacle, palette), palette));
+  painter.setPen(Qt::white);
+  painter.drawText(QPoint(top_left.x() + kSwatch + 6, y + kSwatch - 2),
+                   QObject::tr("faded: fits, out of reach"));
+  y += kRow;
   painter.setPen(QPen(kRobotColour.lighter(150), 2));
   painter.drawRect(QRect(top_left.x(), y + 2, kSwatch, kSwatch - 4));
   painter.setPen(Qt::white);

@@ -101,6 +101,12 @@ void MapView::setMeasuring(bool on) {
   update();
 }
 
+void MapView::measureBetween(const QPointF& from, const QPointF& to) {
+  measure_points_ = {from, to};
+  emit measured(std::hypot(to.x() - from.x(), to.y() - from.y()), 0.0);
+  update();
+}
+
 void MapView::fit() {
   if (!result_ || image_.isNull() || width() <= 0 || height() <= 0) return;
   const MapGrid& grid = result_->map.grid;
@@ -297,7 +303,8 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
     measure_points_.push_back(map);
     if (measure_points_.size() == 2)
       emit measured(std::hypot(measure_points_[1].x() - measure_points_[0].x(),
-                               measure_points_[1].y() - measure_points_[0].y()));
+                               measure_points_[1].y() - measure_points_[0].y()),
+                    1.0 / pixels_per_metre_);
     update();
     return;
   }

@@ -66,6 +66,13 @@ QColor cellColour(CellLabel label, PaletteKind palette) {
   return safeColour(label);
 }
 
+QColor dimmedColour(QColor colour, PaletteKind palette) {
+  const QColor unknown = cellColour(CellLabel::kUnknown, palette);
+  return QColor::fromRgbF(colour.redF() * (1 - kDimmedWeight) + unknown.redF() * kDimmedWeight,
+                          colour.greenF() * (1 - kDimmedWeight) + unknown.greenF() * kDimmedWeight,
+                          colour.blueF() * (1 - kDimmedWeight) + unknown.blueF() * kDimmedWeight);
+}
+
 bool cellHatched(CellLabel label, int column, int row) {
   const auto on = [](int value) {
     return ((value % kHatchPeriod) + kHatchPeriod) % kHatchPeriod == 0;
@@ -86,12 +93,10 @@ QImage mapImage(const TraversabilityMap& map, PaletteKind palette,
       const CellLabel label = map.label(column, row);
       QColor colour = cellColour(label, palette);
       if (cellHatched(label, column, row)) colour = colour.darker(kHatchDarkerPercent);
-      const bool free = label == CellLabel::kTraversable || label == CellLabel::kCareful;
-      if (has_reach && free && !reachable[map.grid.index(column, row)])
-        colour = QColor::fromRgbF(
-            colour.redF() * (1 - kDimmedWeight) + unknown.redF() * kDimmedWeight,
-            colour.greenF() * (1 - kDimmedWeight) + unknown.greenF() * kDimmedWeight,
-            colour.blueF() * (1 - kDimmedWeight) + unknown.blueF() * kDimmedWeight);
+      // Every cell the box fits on is dimmed where the robot cannot get: orange ones too (a
+      // low obstacle, sparse ground), or the operator reads bright orange as a way to go.
+      if (has_reach && robotFits(label) && !reachable[map.grid.index(column, row)])
+        colour = dimmedColour(colour, palette);
       image.setPixel(column, map.grid.height - 1 - row, colour.rgb());
     }
   return image;

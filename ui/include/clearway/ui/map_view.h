@@ -56,6 +56,8 @@ class MapView : public QWidget {
   // The next two clicks measure a distance (emitted as `measured`) instead of selecting.
   void setMeasuring(bool on);
   bool measuring() const { return measuring_; }
+  // Measures between two map positions given exactly (the --measure option), as two clicks would.
+  void measureBetween(const QPointF& from, const QPointF& to);
   // Shows the whole map.
   void fit();
   double pixelsPerMetre() const { return pixels_per_metre_; }
@@ -69,7 +71,9 @@ class MapView : public QWidget {
   void left();
   // A click without dragging.
   void clicked(double map_x, double map_y);
-  void measured(double metres);
+  // A measured distance and how far off it may be: a click is placed to a pixel, so two clicks
+  // are good to one pixel's size in metres at the zoom they were made at; 0 for measureBetween.
+  void measured(double metres, double uncertainty_metres);
 
  protected:
   void paintEvent(QPaintEvent* event) override;

@@ -16,6 +16,8 @@ namespace clearway::ui {
 enum class PaletteKind { kColourBlindSafe, kClassic };
 
 QColor cellColour(CellLabel label, PaletteKind palette);
+// A cell's colour where the robot fits but cannot get: faded towards "not seen".
+QColor dimmedColour(QColor colour, PaletteKind palette);
 
 // Whether a cell of this label is hatched (careful: diagonal lines; obstacle: cross-hatch) at a
 // given cell position. Hatching is drawn in cells, one line every kHatchPeriod cells.
