@@ -34,7 +34,7 @@ std::size_t checkTextHead(const std::filesystem::path& file, std::string_view he
     head = head.substr(0, last_newline + 1);
   }
   std::size_t rows = 0;
-  parseNumberRows(file, head, 3, [&rows](const std::array<double, 4>&, std::size_t) { ++rows; },
+  parseNumberRows(file, head, {}, [&rows](const std::array<double, 4>&, std::size_t) { ++rows; },
                   {});
   return rows;
 }
@@ -134,7 +134,7 @@ Scan readTextPoints(const std::filesystem::path& file, const LoadOptions& option
   Scan scan;
   bool has_intensity = false;
   parseNumberRows(
-      file, text, 3,
+      file, text, {},
       [&](const std::array<double, 4>& v, std::size_t columns) {
         if (scan.size() >= options.max_points)
           throw ScanError(file,

@@ -1,6 +1,7 @@
 #include "ascii_rows.h"
 
 #include <charconv>
+#include <limits>
 #include <string>
 
 #include "clearway/io/scan_error.h"
@@ -24,7 +25,16 @@ int parseLine(std::string_view line, std::array<double, 4>& values) {
     double value = 0.0;
     const char* start = (*at == '+') ? at + 1 : at;
     const auto [next, error] = std::from_chars(start, end, value);
-    if (error != std::errc() || (next < end && !isSeparator(*next))) return -1;
+    if (next == start || (next < end && !isSeparator(*next))) return -1;
+    if (error == std::errc::result_out_of_range) {
+      // 1e400 is a number, if not a usable one: infinite (or zero, when too small to tell).
+      const std::string_view digits(start, std::size_t(next - start));
+      const bool tiny = digits.find_first_of("eE") != std::string_view::npos &&
+                        digits.find('-', digits.find_first_of("eE")) != std::string_view::npos;
+      value = tiny ? 0.0 : (*start == '-' ? -1.0 : 1.0) * std::numeric_limits<double>::infinity();
+    } else if (error != std::errc()) {
+      return -1;
+    }
     if (columns < 4) values[std::size_t(columns)] = value;
     ++columns;
     at = next;
@@ -34,13 +44,15 @@ int parseLine(std::string_view line, std::array<double, 4>& values) {
 }  // namespace
 
 void parseNumberRows(const std::filesystem::path& file, std::string_view text,
-                     std::size_t min_columns,
+                     const NumberRowRules& rules,
                      const std::function<void(const std::array<double, 4>&, std::size_t)>& row,
                      const ProgressCallback& progress) {
-  std::size_t position = 0;
-  std::size_t line_number = 0;
+  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+  std::size_t position = text.substr(0, kByteOrderMark.size()) == kByteOrderMark ? 3 : 0;
+  std::size_t line_number = rules.lines_before;
   std::size_t rows = 0;
-  bool header_allowed = true;
+  bool header_allowed = rules.header_row_allowed;
+  const std::size_t min_columns = rules.min_columns;
   std::size_t next_report = 1 << 22;
   while (position < text.size()) {
     std::size_t end = text.find('\n', position);

@@ -10,12 +10,21 @@
 
 namespace clearway::detail {
 
-// Parses whitespace- or comma-separated number rows (blank lines and '#' comments skipped).
-// Every row needs at least `min_columns` numbers; up to four are passed to `row`, the rest ignored.
-// A leading row that is not numeric is taken as a column header once. Throws ScanError naming the
-// line of the first malformed row.
+// What parseNumberRows expects of the rows.
+struct NumberRowRules {
+  std::size_t min_columns = 3;  // every row holds at least this many numbers
+  // A leading row that is not numeric is a column header (an .xyz's "x y z"); a format whose
+  // header says what follows (PLY) allows none.
+  bool header_row_allowed = true;
+  std::size_t lines_before = 0;  // the file's lines before `text`, for the line numbers
+};
+
+// Parses whitespace- or comma-separated number rows (blank lines and '#' comments skipped; a UTF-8
+// byte-order mark before the first is skipped too). Up to four numbers of a row are passed to
+// `row` with the row's count, the rest ignored; a number too large for a double is infinite (not
+// a point). Throws ScanError naming the line of the first malformed row.
 void parseNumberRows(const std::filesystem::path& file, std::string_view text,
-                     std::size_t min_columns,
+                     const NumberRowRules& rules,
                      const std::function<void(const std::array<double, 4>&, std::size_t)>& row,
                      const ProgressCallback& progress);
 

@@ -11,6 +11,9 @@
 namespace clearway::pcd {
 namespace {
 
+// Below this a VIEWPOINT quaternion is taken for zero (its direction is rounding noise).
+constexpr double kSmallestQuaternionNorm = 1e-6;
+
 // A piece of a line for an error message, with every byte that is not printable ASCII shown as
 // '?': a binary file opened as PCD must not write its bytes to the operator's terminal.
 std::string printableExcerpt(std::string_view text) {
@@ -161,6 +164,15 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     } else if (key == "VIEWPOINT" && values.size() == 7) {
       for (std::size_t i = 0; i < 7; ++i)
         header.viewpoint[i] = parseFinite(file, "VIEWPOINT", values[i]);
+      // The rotation as a unit quaternion (qw qx qy qz); a zero one is no rotation at all, and was
+      // read as none (the identity) without a word.
+      const double norm = std::sqrt(
+          header.viewpoint[3] * header.viewpoint[3] + header.viewpoint[4] * header.viewpoint[4] +
+          header.viewpoint[5] * header.viewpoint[5] + header.viewpoint[6] * header.viewpoint[6]);
+      if (norm < kSmallestQuaternionNorm)
+        throw ScanError(file, "VIEWPOINT's rotation (qw qx qy qz) is zero: not a rotation");
+      for (std::size_t i = 3; i < 7; ++i)
+        header.viewpoint[i] /= norm;
     } else if (key == "DATA" && values.size() == 1) {
       if (values[0] == "ascii")
         header.encoding = Encoding::kAscii;

@@ -12,6 +12,7 @@
 
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_lines.h"
+#include "pcd_ascii_body.h"
 #include "pcd_header.h"
 #include "pcd_writer.h"
 #include "readers.h"
@@ -79,6 +80,7 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
   std::uintmax_t file_size = 0;
   const std::string prefix = readFilePrefix(file, pcd::kHeaderPrefixBytes, file_size);
   const pcd::Header header = pcd::parseHeader(file, prefix, file_size, options.max_points);
+  if (header.encoding == pcd::Encoding::kAscii) pcd::checkAsciiBody(file, header);
   reportProgress(options.progress, 0.05);
 
   // PCL reports its own failures on stderr; ours are clearer and go through ScanError.

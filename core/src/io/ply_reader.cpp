@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <charconv>
 #include <cstring>
 #include <sstream>
 
@@ -108,8 +109,15 @@ PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& b
       has_format = true;
     } else if (keyword == "element") {
       PlyElement element;
-      if (!(line >> element.name >> element.count))
+      std::string count, rest;
+      if (!(line >> element.name >> count) || (line >> rest))
         throw ScanError(file, "PLY: malformed element line");
+      // A whole number: ">>" read "1.5" as 1 and "1e3" as 1, and the rest of the file was not read.
+      const auto [parsed_to, error] =
+          std::from_chars(count.data(), count.data() + count.size(), element.count);
+      if (error != std::errc() || parsed_to != count.data() + count.size())
+        throw ScanError(file, "PLY: element " + element.name + "'s count '" + count +
+                                  "' is not a whole number");
       header.elements.push_back(element);
     } else if (keyword == "property") {
       if (header.elements.empty()) throw ScanError(file, "PLY: property before any element");
@@ -219,10 +227,21 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
       std::string_view body(bytes);
       body.remove_prefix(header.body_offset);
       std::uint64_t read = 0;
+      NumberRowRules rules;
+      rules.min_columns = vertex.properties.size();
+      rules.header_row_allowed = false;  // the header said what follows: a word is an error
+      rules.lines_before = std::size_t(
+          std::count(bytes.begin(), bytes.begin() + std::ptrdiff_t(header.body_offset), '\n'));
       parseNumberRows(
-          file, body, vertex.properties.size(),
-          [&](const std::array<double, 4>& v, std::size_t) {
-            if (read++ >= vertex.count) return;  // face rows follow the vertices
+          file, body, rules,
+          [&](const std::array<double, 4>& v, std::size_t columns) {
+            if (read >= vertex.count) return;  // face rows follow the vertices
+            if (columns != vertex.properties.size())
+              throw ScanError(file, "PLY vertex " + std::to_string(read) + " has " +
+                                        std::to_string(columns) + " values where its " +
+                                        std::to_string(vertex.properties.size()) +
+                                        " properties take one each");
+            ++read;
             appendPoint(scan, float(v[std::size_t(ix)]), float(v[std::size_t(iy)]),
                         float(v[std::size_t(iz)]));
             if (ii >= 0) scan.intensity.push_back(float(v[std::size_t(ii)]));
@@ -261,6 +280,14 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
       const PlyProperty& property = vertex.properties[std::size_t(index)];
       return readScalar(at + property_offsets[std::size_t(index)], property.type, swap);
     };
+    // Vertices last, with at least another vertex's worth of bytes after them: the header does
+    // not say what the file holds (a wrong count or property type), and three quarters of a file
+    // were left unread without a word.
+    const std::size_t vertices_end = offset + record * vertex.count;
+    if (&vertex == &header.elements.back() && bytes.size() >= vertices_end + record)
+      throw ScanError(file, "PLY holds " + std::to_string(bytes.size() - vertices_end) +
+                                " bytes after its last vertex: more than its header declares "
+                                "(a wrong vertex count or property type?)");
     for (std::uint64_t v = 0; v < vertex.count; ++v) {
       const char* at = bytes.data() + offset + v * record;
       appendPoint(scan, float(value(at, ix)), float(value(at, iy)), float(value(at, iz)));

@@ -144,6 +144,43 @@ TEST_F(BadInput, TruncatedAsciiPcd) {
                   "PCD");
 }
 
+// PCL's ASCII reader made a point of a row cut short, read a word as a number and dropped the
+// rows beyond POINTS, all without a word.
+TEST_F(BadInput, AsciiPcdRowCutShort) {
+  expectScanError(write("cut.pcd", pcdHeader("ascii", "3", "1", "3") +
+                                       "1.25 2.25 3.25\n4.25 5.25 6.25\n7.25 8.25"),
+                  "PCD line 14: 2 numbers where the header's fields take 3");
+}
+
+TEST_F(BadInput, AsciiPcdWordWhereANumberBelongs) {
+  expectScanError(write("word.pcd", pcdHeader("ascii", "3", "1", "3") + "1 2 3\nfoo 5 6\n7 8 9\n"),
+                  "PCD line 13: 'foo' is not a number");
+}
+
+TEST_F(BadInput, AsciiPcdWithMoreRowsThanPoints) {
+  expectScanError(write("more.pcd", pcdHeader("ascii", "2", "1", "2") + "1 2 3\n4 5 6\n7 8 9\n"),
+                  "more rows than its header's POINTS 2 (line 14)");
+}
+
+TEST_F(BadInput, AsciiPcdAsPclWritesItLoads) {
+  // Exponents, signs, nan, CRLF line ends and a blank line are all PCL's own ASCII.
+  const Scan scan =
+      loadScan(write("fine.pcd", pcdHeader("ascii", "4", "1", "4") +
+                                     "1 2 3\r\n-4.5e-1 +5 6E2\r\n\nnan nan nan\r\n7\t8 9\n"));
+  ASSERT_EQ(scan.size(), 4U);
+  EXPECT_FLOAT_EQ(scan.points[1].x, -0.45F);
+  EXPECT_FLOAT_EQ(scan.points[1].z, 600.0F);
+  EXPECT_FALSE(scan.isValid(2));
+  EXPECT_FLOAT_EQ(scan.points[3].y, 8.0F);
+}
+
+// A zero VIEWPOINT quaternion was read as the identity.
+TEST_F(BadInput, ZeroViewpointQuaternion) {
+  std::string bytes = pcdHeader("ascii", "2", "1", "2") + "1 2 3\n4 5 6\n";
+  bytes.replace(bytes.find("VIEWPOINT 0 0 0 1 0 0 0"), 23, "VIEWPOINT 0 0 0 0 0 0 0");
+  expectScanError(write("zero_viewpoint.pcd", bytes), "VIEWPOINT's rotation (qw qx qy qz) is zero");
+}
+
 TEST_F(BadInput, TruncatedCompressedPcd) {
   test::TemporaryDirectory scratch;
   Scan scan;
@@ -208,6 +245,47 @@ TEST_F(BadInput, TruncatedAsciiPly) {
       "ply\nformat ascii 1.0\nelement vertex 5\nproperty float x\nproperty float y\n"
       "property float z\nend_header\n1 2 3\n";
   expectScanError(write("short.ply", header), "truncated");
+}
+
+// A PLY header says what its body holds: a count that is not a whole number, a word where a vertex
+// belongs, a vertex row with more values than properties and bytes beyond the last vertex were read
+// as fewer points, or past, without a word.
+TEST_F(BadInput, PlyWhoseBodyIsNotWhatItsHeaderSays) {
+  const std::string properties =
+      "property float x\nproperty float y\nproperty float z\nend_header\n";
+  expectScanError(write("fraction.ply", "ply\nformat ascii 1.0\nelement vertex 1.5\n" + properties +
+                                            "1 2 3\n4 5 6\n"),
+                  "count '1.5' is not a whole number");
+  expectScanError(write("word.ply", "ply\nformat ascii 1.0\nelement vertex 2\n" + properties +
+                                        "foo bar baz\n1 2 3\n4 5 6\n"),
+                  "line 8: expected at least 3 numbers, got 'foo bar baz'");
+  expectScanError(write("wide.ply", "ply\nformat ascii 1.0\nelement vertex 2\n" + properties +
+                                        "1 2 3 4 5\n4 5 6\n"),
+                  "PLY vertex 0 has 5 values where its 3 properties take one each");
+  expectScanError(write("more.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 2\n" +
+                                        properties + floats(12, 1.0F)),
+                  "PLY holds 24 bytes after its last vertex");
+  // Faces after the vertices are rows of another shape, and are no error.
+  const Scan with_faces = loadScan(
+      write("faces.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" +
+                             properties.substr(0, properties.size() - 11) +
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                             "1 2 3\n4 5 6\n7 8 9\n3 0 1 2\n"));
+  EXPECT_EQ(with_faces.size(), 3U);
+}
+
+// The first row of an .xyz may be a column header; a byte-order mark or a number too large for a
+// double made the first point that header, and it was dropped.
+TEST_F(BadInput, XyzFirstRowIsAPointWhateverItsNumbers) {
+  const Scan marked = loadScan(write("bom.xyz",
+                                     "\xEF\xBB\xBF"
+                                     "1 2 3\n4 5 6\n7 8 9\n"));
+  EXPECT_EQ(marked.size(), 3U);
+  const Scan huge = loadScan(write("huge.xyz", "1e400 0 0\n4 5 6\n7 8 9\n"));
+  ASSERT_EQ(huge.size(), 3U);
+  EXPECT_FALSE(huge.isValid(0));
+  const Scan headed = loadScan(write("headed.xyz", "x y z\n4 5 6\n7 8 9\n"));
+  EXPECT_EQ(headed.size(), 2U);
 }
 
 // Issue #12.6: PCL's reader allocated 2.4 GB for this 300-byte file before failing.
