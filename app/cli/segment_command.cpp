@@ -51,7 +51,8 @@ int runSegment(const std::vector<std::string>& words) {
     if (estimated)
       std::cout << "up direction: estimated from the scan (confidence "
                 << result.analysis->up_confidence
-                << "): the map holds only if it is right; give --up or --pose to be sure\n";
+                << "): the map holds only if it is right; give --up or --pose to be sure "
+                   "(traversability.png draws nothing traversable until then)\n";
     // With ground found, a reason says why nothing is green (too sparse, or fits nowhere).
     if (!result.reason.empty()) std::cout << "reason: " << result.reason << "\n";
     std::cout << "planes: " << result.analysis->planes.planes.size() << " ("

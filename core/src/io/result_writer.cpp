@@ -15,6 +15,13 @@
 namespace clearway {
 namespace {
 
+// An up direction only estimated from the scan: the console draws nothing traversable until the
+// operator confirms it, and traversability.png, a picture for people, does the same. The data
+// files (labels, ROS map) keep the engine's answer; report.json says on what it rests.
+bool traversableWithheldInPicture(const PipelineResult& result) {
+  return result.trusted() && result.analysis->pose_source == PoseSource::kEstimated;
+}
+
 // Image row 0 is the map's top (largest y), as image viewers and ROS expect.
 std::vector<std::uint8_t> topDown(const std::vector<std::uint8_t>& layer, const MapGrid& grid,
                                   std::uint8_t (*pixel)(std::uint8_t) = nullptr) {
@@ -91,7 +98,8 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
   report["pose"] = {{"source", poseSourceName(analysis.pose_source)},
                     {"up_in_scanner_frame", has_up ? nlohmann::ordered_json{up.x(), up.y(), up.z()}
                                                    : nlohmann::ordered_json()},
-                    {"confidence", analysis.up_confidence}};
+                    {"confidence", analysis.up_confidence},
+                    {"picture_withholds_traversable", traversableWithheldInPicture(result)}};
   const TraversabilityMap& map = result.map;
   // "guessed": no recorded robot frame; the reach starts from every orientation the box fits in
   // at the robot's place.
@@ -189,12 +197,16 @@ void writeRosMap(const TraversabilityMap& map, const std::filesystem::path& pgm_
   writeTextFileAtomically(yaml_file, yaml.str());
 }
 
-void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file) {
+void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file,
+                            bool withhold_drivable) {
   cv::Mat image(std::max(map.grid.height, 1), std::max(map.grid.width, 1), CV_8UC3,
                 cv::Scalar(60, 60, 60));
   for (int row = 0; row < map.grid.height; ++row)
     for (int column = 0; column < map.grid.width; ++column) {
-      const auto rgb = labelColour(map.label(column, row));
+      CellLabel label = map.label(column, row);
+      if (withhold_drivable && (robotFits(label) || label == CellLabel::kStairs))
+        label = CellLabel::kUnknown;
+      const auto rgb = labelColour(label);
       image.at<cv::Vec3b>(map.grid.height - 1 - row, column) = cv::Vec3b(rgb[2], rgb[1], rgb[0]);
     }
   std::vector<std::uint8_t> png;
@@ -272,7 +284,8 @@ void writeResultFolder(const PipelineResult& result, const SegmentationParams& p
     writeReasonsPgm(result.map, staging / "reasons.pgm");
     writeReachPgm(result.map, staging / "reach.pgm");
     writeRosMap(result.map, staging / "map.pgm");
-    writeTraversabilityPng(result.map, staging / "traversability.png");
+    writeTraversabilityPng(result.map, staging / "traversability.png",
+                           traversableWithheldInPicture(result));
     writeScenePly(result.scene, staging / "scene.ply");
     std::string classes(result.point_classes.size(), '\0');
     for (std::size_t i = 0; i < classes.size(); ++i)

@@ -3,6 +3,10 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include <opencv2/core.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "clearway/scene/scene_geometry.h"
 #include "test_support.h"
 
 namespace clearway {
@@ -58,6 +62,22 @@ TEST(CliSegment, AnAnswerFromAnEstimatedUpDirectionSaysSo) {
   EXPECT_NE(estimated.out.find("goal: reachable (if the estimated up direction is right)"),
             std::string::npos)
       << estimated.out;
+  // The picture, for people, withholds what the console withholds: the map's data keep it.
+  const auto report = nlohmann::json::parse(test::readBytes(directory / "out" / "report.json"));
+  EXPECT_TRUE(report.at("pose").at("picture_withholds_traversable").get<bool>());
+  EXPECT_GT(report.at("cells").at("traversable").get<int>(), 0);
+  const std::string png = test::readBytes(directory / "out" / "traversability.png");
+  const cv::Mat picture =
+      cv::imdecode(std::vector<std::uint8_t>(png.begin(), png.end()), cv::IMREAD_COLOR);
+  ASSERT_FALSE(picture.empty());
+  int drivable_pixels = 0;
+  for (const cv::Vec3b& bgr : cv::Mat_<cv::Vec3b>(picture))
+    for (const CellLabel label :
+         {CellLabel::kTraversable, CellLabel::kCareful, CellLabel::kObstacle, CellLabel::kStairs}) {
+      const auto rgb = labelColour(label);
+      drivable_pixels += bgr == cv::Vec3b(rgb[2], rgb[1], rgb[0]);
+    }
+  EXPECT_EQ(drivable_pixels, 0);
 }
 
 TEST(CliBench, TimesEveryStageOfEveryRun) {

@@ -23,7 +23,11 @@ void writeReasonsPgm(const TraversabilityMap& map, const std::filesystem::path& 
 void writeReachPgm(const TraversabilityMap& map, const std::filesystem::path& file);
 void writeRosMap(const TraversabilityMap& map,
                  const std::filesystem::path& pgm_file);  // + .yaml beside
-void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file);
+// The map in the console's colours. With `withhold_drivable` (an up direction only estimated,
+// as the console withholds it until the operator confirms it) no cell is drawn as one the robot
+// may drive: those are drawn as not seen.
+void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem::path& file,
+                            bool withhold_drivable = false);
 void writeScenePly(const SceneGeometry& scene, const std::filesystem::path& file);
 
 }  // namespace clearway
