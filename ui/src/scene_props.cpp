@@ -355,6 +355,7 @@ std::vector<vtkSmartPointer<vtkProp>> legendProps(PaletteKind palette) {
       {cellColour(CellLabel::kCareful, palette), QObject::tr("careful")},
       {cellColour(CellLabel::kObstacle, palette), QObject::tr("low obstacle or too sparse")},
       {cellColour(CellLabel::kImpassable, palette), QObject::tr("impassable, walls")},
+      {cellColour(CellLabel::kStairs, palette), QObject::tr("stairs, with care")},
       {QColor(40, 120, 255), QObject::tr("robot (arrow: heading)")},
       {QColor(60, 60, 66), QObject::tr("grid 1 m; axes x red, y green, z blue")}};
   std::vector<vtkSmartPointer<vtkProp>> props;

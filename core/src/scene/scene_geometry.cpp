@@ -175,12 +175,23 @@ std::vector<SceneBox> wallBoxes(const ScanAnalysis& analysis) {
 }
 
 // Obstacles: cubes of the points between the ground and the robot's top.
-std::vector<SceneBox> obstacleCubes(const ScanAnalysis& analysis, const RobotParams& robot) {
+std::vector<SceneBox> obstacleCubes(const ScanAnalysis& analysis, const TraversabilityMap& map,
+                                    const RobotParams& robot) {
   std::vector<SceneBox> cubes;
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   // One cube per occupied voxel of points between the ground and the robot's top.
   std::unordered_set<std::uint64_t> voxels;
   const Eigen::Matrix3f axes = scanner_from_map.linear().cast<float>();
+  // A flight the map shows as stairs the robot can climb is drawn so here too, not as the red
+  // cubes of an obstacle it cannot pass (its treads stand higher than the robot's step): the 3D
+  // view drew the flight red where the map said "stairs, with care".
+  auto onAClimbableFlight = [&](const MapObstacle& o) {
+    const int flight = analysis.stairs.staircaseAt(o.cell);
+    return flight >= 0 && o.cell < map.labels.size() &&
+           CellLabel(map.labels[o.cell]) == CellLabel::kStairs &&
+           analysis.stairs.staircases[std::size_t(flight)].containsPoint(
+               Eigen::Vector3d(o.x, o.y, o.z));
+  };
   for (const MapObstacle& o : analysis.inputs.obstacles) {
     if (o.height <= 0.0F || o.height >= robot.height || cubes.size() >= kMaxCubes) continue;
     const auto ix = std::int64_t(std::floor(o.x / kCubeSize)),
@@ -196,7 +207,9 @@ std::vector<SceneBox> obstacleCubes(const ScanAnalysis& analysis, const RobotPar
     cube.center = (scanner_from_map * centre).cast<float>();
     cube.axes = axes;
     cube.half_size = Eigen::Vector3f::Constant(kCubeSize / 2);
-    cube.label = o.height <= robot.max_step ? CellLabel::kObstacle : CellLabel::kImpassable;
+    cube.label = o.height <= robot.max_step ? CellLabel::kObstacle
+                 : onAClimbableFlight(o)    ? CellLabel::kStairs
+                                            : CellLabel::kImpassable;
     cubes.push_back(cube);
   }
   return cubes;
@@ -230,7 +243,7 @@ SceneGeometry buildSceneGeometry(const Scan& scan, const ScanAnalysis& analysis,
   // The three parts share nothing: side by side.
   detail::parallelTasks(
       {[&] { addGround(scan, analysis, map, scene); }, [&] { scene.walls = wallBoxes(analysis); },
-       [&] { scene.obstacles = obstacleCubes(analysis, robot); }},
+       [&] { scene.obstacles = obstacleCubes(analysis, map, robot); }},
       threads);
   return scene;
 }

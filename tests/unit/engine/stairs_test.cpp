@@ -157,6 +157,35 @@ TEST(Stairs, TheRobotsStairAbilityDecidesCarefulOrImpassable) {
   EXPECT_EQ(CellReason(wide.map.reasons[stair_cell]), CellReason::kTooNarrow);
 }
 
+// The 3D view draws a flight as the map does: stairs the robot can climb (not red obstacle cubes,
+// though its treads stand higher than its step), red where it cannot.
+TEST(Stairs, TheSceneDrawsTheFlightAsTheMapDoes) {
+  const auto run = test::simulateAndSegment("hallway", 300);
+  ASSERT_EQ(run.result.analysis->stairs.staircases.size(), 1u);
+  const Staircase& flight = run.result.analysis->stairs.staircases.front();
+  const Eigen::Isometry3d map_from_scanner = run.result.analysis->map_from_scanner;
+  auto cubesOnTheFlight = [&](const PipelineResult& result, CellLabel label) {
+    std::size_t cubes = 0;
+    for (const SceneBox& cube : result.scene.obstacles) {
+      const Eigen::Vector3d centre = map_from_scanner * cube.center.cast<double>();
+      const Eigen::Vector2d along(centre.head<2>());
+      const double up = flight.up.dot(along), across = flight.across.dot(along);
+      const bool over_flight = up > flight.start() + 0.05 && up < flight.end() - 0.05 &&
+                               across > flight.across_min + 0.05 &&
+                               across < flight.across_max - 0.05;
+      cubes += over_flight && cube.label == label;
+    }
+    return cubes;
+  };
+  EXPECT_GT(cubesOnTheFlight(run.result, CellLabel::kStairs), 20u);
+  EXPECT_EQ(cubesOnTheFlight(run.result, CellLabel::kImpassable), 0u);
+  SegmentationParams params;
+  params.robot.max_stair_rise = 0.15;  // the risers are 17 cm: not for this robot
+  const PipelineResult cannot = rerunForRobot(run.simulated.scan, run.result.analysis, params);
+  EXPECT_EQ(cubesOnTheFlight(cannot, CellLabel::kStairs), 0u);
+  EXPECT_GT(cubesOnTheFlight(cannot, CellLabel::kImpassable), 20u);
+}
+
 TEST(Stairs, ReportListsEachStaircase) {
   const auto run = test::simulateAndSegment("hallway", 300);
   const SegmentationParams params;
