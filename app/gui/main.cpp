@@ -11,12 +11,14 @@
 
 #include <QApplication>
 #include <QCommandLineParser>
-#include <QMouseEvent>
+#include <QCoreApplication>
 #include <QSettings>
 #include <QTemporaryDir>
 #include <QTimer>
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
+#include <string_view>
 
 #include "clearway/memory_tuning.h"
 #include "clearway/ui/main_window.h"
@@ -115,16 +117,8 @@ void measureOnMap(clearway::ui::MapView& map, const std::vector<double>& points)
   map.measureBetween(QPointF(points[0], points[1]), QPointF(points[2], points[3]));
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  clearway::keepFreedMemoryForReuse();
-  clearway::ui::SceneView::prepareApplication();
-  QApplication application(argc, argv);
-  QApplication::setApplicationName("Clearway");
-  QApplication::setOrganizationName("Clearway");
-
-  QCommandLineParser parser;
+// The console's command line, for the parser of whichever application runs.
+void describeOptions(QCommandLineParser& parser) {
   parser.setApplicationDescription("Clearway operator console");
   parser.addHelpOption();
   parser.addPositionalArgument("scan", "Scan file to open");
@@ -143,6 +137,53 @@ int main(int argc, char** argv) {
                     "n"});
   parser.addOption(
       {"goal", "With --screenshot: ask \"Can it get there?\" for a map position [m].", "x,y"});
+}
+
+bool asksForHelp(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view argument = argv[i];
+    if (argument == "-h" || argument == "--help" || argument == "-?" || argument == "--help-all")
+      return true;
+  }
+  return false;
+}
+
+// Where Qt would find no display to open it aborts with its own words; say ours instead.
+bool hasADisplay() {
+  const auto set = [](const char* name) {
+    const char* value = std::getenv(name);
+    return value && *value;
+  };
+  return set("DISPLAY") || set("WAYLAND_DISPLAY") || set("QT_QPA_PLATFORM");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (asksForHelp(argc, argv)) {
+    // Help needs no window, and so no display: a headless machine asking for it got an abort.
+    QCoreApplication application(argc, argv);
+    QCoreApplication::setApplicationName("Clearway");
+    QCommandLineParser parser;
+    describeOptions(parser);
+    parser.process(application);  // prints the help and exits
+    return 0;
+  }
+  if (!hasADisplay()) {
+    std::fprintf(stderr,
+                 "clearway: no display to open the console on (DISPLAY and WAYLAND_DISPLAY are "
+                 "unset). Run it under xvfb-run for screenshots, or use clearway-cli segment SCAN "
+                 "-o DIR for the pipeline without a window (scripts/run does so by itself).\n");
+    return 2;
+  }
+  clearway::keepFreedMemoryForReuse();
+  clearway::ui::SceneView::prepareApplication();
+  QApplication application(argc, argv);
+  QApplication::setApplicationName("Clearway");
+  QApplication::setOrganizationName("Clearway");
+
+  QCommandLineParser parser;
+  describeOptions(parser);
   parser.process(application);
 
   // A screenshot shows the console as at its first start: settings of its own, not the user's
