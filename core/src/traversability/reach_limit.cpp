@@ -21,9 +21,13 @@ std::string percent(std::size_t part, std::size_t whole) {
   return std::to_string(int(std::lround(100.0 * share))) + " %";
 }
 
+// Whole centimetres below a metre: "0.0 m away" read as a contradiction.
+// Cells this near the robot's place lie beside it.
+constexpr double kBesideCells = 1.5;
+
 std::string metres(double value) {
   char text[32];
-  std::snprintf(text, sizeof text, "%.1f m", value);
+  std::snprintf(text, sizeof text, value < 1.0 ? "%.2f m" : "%.1f m", value);
   return text;
 }
 
@@ -110,7 +114,12 @@ std::string describeReachLimit(const TraversabilityMap& map, double box_reach_ce
     text += ": what stops it is " + named[0].second + " (" + percent(named[0].first, causes) +
             ") and " + named[1].second + " (" + percent(named[1].first, causes) + ")";
   }
-  if (std::isfinite(nearest_fit))
+  // Within a cell or so of its own place: it fits right there, so turning or driving off the
+  // spot is what fails, and the distance alone would not say so.
+  if (std::isfinite(nearest_fit) && nearest_fit <= kBesideCells * grid.resolution)
+    text += "; it fits right beside its own place (" + metres(nearest_fit) +
+            " away) but cannot turn or drive there";
+  else if (std::isfinite(nearest_fit))
     text += "; the nearest such cell is " + metres(nearest_fit) + " away";
   return text;
 }

@@ -156,6 +156,11 @@ TEST_P(KittiFrame, TheRoadIsGround) {
   // The rings never see the ground around the car: the robot's reach is its own island, and the
   // map says why rather than leaving a reach of a few cells unexplained.
   EXPECT_NE(result.map.reach_limit.find("not seen"), std::string::npos) << result.map.reach_limit;
+  // It fits a few centimetres from its own place, in another heading: it cannot turn there, and
+  // the words say so rather than "the nearest such cell is 0.0 m away".
+  EXPECT_NE(result.map.reach_limit.find("fits right beside its own place"), std::string::npos)
+      << result.map.reach_limit;
+  EXPECT_EQ(result.map.reach_limit.find("0.0 m"), std::string::npos) << result.map.reach_limit;
 }
 
 // The frame's returns that `keep` (ring, point) accepts, ring by ring: a sparser head, a crop.
