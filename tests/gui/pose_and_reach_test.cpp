@@ -245,6 +245,7 @@ class PoseAndReachTest : public QObject {
     QVERIFY(goal_json["reachable"].toBool());
     QVERIFY(goal_json["path"].toArray().size() >= 2);
     QVERIFY(goal_json["length_m"].toDouble() > 0.0);
+    QVERIFY(window.mapView()->goal().has_value());  // the goal is marked where it was asked
     const auto& path = window.mapView()->path();
     QVERIFY(path.size() >= 2);
     QVERIFY(std::hypot(path.back().x - yard.x(), path.back().y - yard.y()) < 0.1);
@@ -260,6 +261,15 @@ class PoseAndReachTest : public QObject {
     QVERIFY2(no.contains("Can it get there? No: ") && no.size() > 25, qPrintable(no));
     qInfo("1.0 m robot: %s", qPrintable(no));
     QVERIFY(window.mapView()->path().empty());
+    // A "No" marks the goal too: the words alone did not say where it was.
+    QVERIFY(window.mapView()->goal().has_value());
+    QVERIFY(std::hypot(window.mapView()->goal()->x() - yard.x(),
+                       window.mapView()->goal()->y() - yard.y()) < 0.1);
+    // A goal nothing was seen at says so in words, not "(unknown)".
+    const QString unseen = window.canItGetThere(shown(window).map.grid.origin.x() + 0.01,
+                                                shown(window).map.grid.origin.y() + 0.01);
+    QVERIFY2(unseen.contains("not seen well enough") && !unseen.contains("(unknown)"),
+             qPrintable(unseen));
   }
 
   // 3. The pose source is named, and a typed pose (validated) segments the scan again.

@@ -163,6 +163,7 @@ QString MainWindow::canItGetThere(double map_x, double map_y) {
 void MainWindow::planGoal() {
   std::vector<PathPose> path;
   QString answer;
+  bool reachable = false;
   const PipelineResult* result = d_->shown.result.get();
   if (!result) {
     answer = tr("Can it get there? Open a scan first.");
@@ -178,12 +179,14 @@ void MainWindow::planGoal() {
     d_->shown.result = std::move(with_goal);
     for (const clearway::PathPose& pose : goal.path)
       path.push_back({pose.x, pose.y, pose.heading_deg / kDegrees});
+    reachable = goal.reachable;
     answer = goal.reachable
                  ? tr("Can it get there? Yes, reachable: a path of %1 m from where it stands.")
                        .arg(goal.length_m, 0, 'f', 1)
                  : tr("Can it get there? No: %1").arg(QString::fromStdString(goal.reason));
   }
   d_->map->setPath(path);
+  d_->map->setGoal(result ? d_->goal : std::nullopt, reachable);
   d_->scene->setPath(path);
   statusBar()->showMessage(answer);
 }

@@ -138,6 +138,26 @@ void drawMeasurement(QPainter& painter, const QTransform& map_to_picture, QPoint
   painter.restore();
 }
 
+void drawGoal(QPainter& painter, QPointF at, bool reachable) {
+  constexpr double kRadius = 9.0;
+  painter.save();
+  painter.setRenderHint(QPainter::Antialiasing);
+  painter.setBrush(Qt::NoBrush);
+  // A dark outline under the mark keeps it visible on every cell colour.
+  for (const auto& [colour, width] :
+       {std::pair{QColor(0, 0, 0, 200), 5.0},
+        std::pair{reachable ? QColor(Qt::white) : QColor(255, 80, 80), 2.5}}) {
+    painter.setPen(QPen(colour, width));
+    if (reachable) {
+      painter.drawEllipse(at, kRadius, kRadius);
+    } else {
+      painter.drawLine(at + QPointF(-kRadius, -kRadius), at + QPointF(kRadius, kRadius));
+      painter.drawLine(at + QPointF(-kRadius, kRadius), at + QPointF(kRadius, -kRadius));
+    }
+  }
+  painter.restore();
+}
+
 int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette) {
   const std::pair<CellLabel, QString> entries[] = {
       {CellLabel::kTraversable, QObject::tr("traversable")},

@@ -48,6 +48,7 @@ void MapView::setResult(std::shared_ptr<const PipelineResult> result) {
     // A new scan: show all of it; its path and reach are not the old scan's.
     fitted_ = false;
     path_.clear();
+    goal_.reset();
     reachable_.clear();
     measure_points_.clear();
   }
@@ -74,6 +75,12 @@ void MapView::setRobotPose(double x, double y, double yaw) {
 
 void MapView::setPath(std::vector<PathPose> path) {
   path_ = std::move(path);
+  update();
+}
+
+void MapView::setGoal(std::optional<QPointF> goal, bool reachable) {
+  goal_ = goal;
+  goal_reachable_ = reachable;
   update();
 }
 
@@ -224,6 +231,7 @@ void MapView::paintEvent(QPaintEvent*) {
   drawMetreGrid(painter, to_widget, rect());
   drawMapAxes(painter, to_widget);
   drawPath(painter, to_widget, path_, result_->robot);
+  if (goal_) drawGoal(painter, to_widget.map(*goal_), goal_reachable_);
   // Without ground the robot has no place on the map: nothing to draw.
   if (result_->map.robot_orientation >= 0)
     drawRobot(painter, to_widget, robot_pose_, result_->robot);

@@ -166,7 +166,12 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
     return result;
   }
   if (!map.reach[goal_cell]) {
-    if (!fits) {
+    if (label == CellLabel::kUnknown) {
+      // Nothing seen there says it could stand there: "(unknown)" read as the answer's state.
+      result.reason = "the goal was not seen well enough to tell whether the robot can stand there";
+    } else if (label == CellLabel::kStairs) {
+      result.reason = "the goal is on stairs: the way there is planned over level ground only";
+    } else if (!fits) {
       const std::string why(reasonName(CellReason(map.reasons[goal_cell])));
       result.reason = "the robot does not fit at the goal (" + std::string(labelName(label)) +
                       (why.empty() ? "" : ": " + why) + ")";

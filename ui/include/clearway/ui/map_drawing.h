@@ -32,6 +32,8 @@ void drawPath(QPainter& painter, const QTransform& map_to_picture,
 void drawMeasurement(QPainter& painter, const QTransform& map_to_picture, QPointF from, QPointF to);
 // Legend swatches with the same hatching as the cells; returns the height used.
 int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette);
+// The goal of "Can it get there?" at widget position `at`: a ring when reachable, a cross when not.
+void drawGoal(QPainter& painter, QPointF at, bool reachable);
 // The smallest round step (1, 2, 5 x 10^n, n >= 0) that cuts `extent` into at most `parts`.
 double roundStep(double extent, double parts);
 // A bar of a round length (1, 2, 5 x 10^n m) close to `target_pixels` long.

@@ -10,6 +10,7 @@
 #include <QImage>
 #include <QWidget>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "clearway/pipeline.h"
@@ -44,6 +45,10 @@ class MapView : public QWidget {
   // The engine's "Can it get there?" path; empty hides it.
   void setPath(std::vector<PathPose> path);
   const std::vector<PathPose>& path() const { return path_; }
+  // Marks the goal of "Can it get there?": a ring when reachable, a cross when not (the answer's
+  // words alone did not say where the goal was). nullopt clears it.
+  void setGoal(std::optional<QPointF> goal, bool reachable);
+  std::optional<QPointF> goal() const { return goal_; }
   // Per map cell (the labels' indexing): 1 where the robot can get to. Free cells it cannot reach
   // are dimmed. Empty: reachability unknown, nothing dimmed.
   void setReachable(std::vector<std::uint8_t> reachable);
@@ -102,6 +107,8 @@ class MapView : public QWidget {
   bool cursor_inside_ = false;
   PathPose robot_pose_;
   std::vector<PathPose> path_;
+  std::optional<QPointF> goal_;
+  bool goal_reachable_ = false;
   std::vector<std::uint8_t> reachable_;
   QString stale_note_;
   bool measuring_ = false;
