@@ -1,6 +1,7 @@
 #include "clearway/pose.h"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -117,29 +118,99 @@ std::optional<std::filesystem::path> findPoseSidecar(const std::filesystem::path
   replaced.replace_extension(".pose.json");
   std::filesystem::path kept = scan_file;
   kept += ".pose.json";
+  std::vector<std::filesystem::path> found;
   for (const auto& candidate : {replaced, kept}) {
     std::error_code error;
-    if (std::filesystem::exists(candidate, error)) return candidate;
+    if (std::filesystem::exists(candidate, error)) found.push_back(candidate);
   }
-  return std::nullopt;
+  // Two poses for one scan: which one is right is the operator's to say, not ours to pick.
+  if (found.size() == 2)
+    throw ScanError(scan_file, "two pose sidecars, " + found[0].filename().string() + " and " +
+                                   found[1].filename().string() + ": keep the right one");
+  if (found.empty()) return std::nullopt;
+  return found.front();
 }
+
+namespace {
+
+constexpr int kSidecarVersion = 1;
+
+// The sidecar's JSON, refusing a key given twice in one object (the parser keeps the last, and a
+// second "rotation_wxyz" turned the scan over without a word).
+nlohmann::json parseSidecar(const std::filesystem::path& file, const std::string& text) {
+  std::vector<std::vector<std::string>> keys_of_open_objects;
+  std::string repeated;
+  const nlohmann::json::parser_callback_t check_keys = [&](int, nlohmann::json::parse_event_t event,
+                                                           nlohmann::json& parsed) {
+    if (event == nlohmann::json::parse_event_t::object_start) {
+      keys_of_open_objects.emplace_back();
+    } else if (event == nlohmann::json::parse_event_t::object_end &&
+               !keys_of_open_objects.empty()) {
+      keys_of_open_objects.pop_back();
+    } else if (event == nlohmann::json::parse_event_t::key && !keys_of_open_objects.empty()) {
+      std::vector<std::string>& keys = keys_of_open_objects.back();
+      const std::string key = parsed.get<std::string>();
+      if (std::find(keys.begin(), keys.end(), key) != keys.end() && repeated.empty())
+        repeated = key;
+      keys.push_back(key);
+    }
+    return true;
+  };
+  nlohmann::json json = nlohmann::json::parse(text, check_keys);
+  if (!repeated.empty()) throw ScanError(file, "the key \"" + repeated + "\" is given twice");
+  return json;
+}
+
+// `count` finite numbers under `key` of `object`.
+std::vector<double> numbers(const std::filesystem::path& file, const nlohmann::json& object,
+                            const char* key, std::size_t count) {
+  if (!object.is_object() || !object.contains(key))
+    throw ScanError(file, std::string("no \"") + key + "\"");
+  const nlohmann::json& values = object.at(key);
+  if (!values.is_array() || values.size() != count)
+    throw ScanError(file,
+                    std::string("\"") + key + "\" needs " + std::to_string(count) + " numbers");
+  std::vector<double> result;
+  for (const nlohmann::json& value : values) {
+    if (!value.is_number() || !std::isfinite(value.get<double>()))
+      throw ScanError(
+          file, std::string("\"") + key + "\" holds " + value.dump() + ", not a finite number");
+    result.push_back(value.get<double>());
+  }
+  return result;
+}
+
+}  // namespace
 
 SensorPose readPoseSidecar(const std::filesystem::path& file) {
   const std::string text = readWholeFile(file, kMaxSidecarBytes);
+  nlohmann::json json;
   try {
-    const nlohmann::json json = nlohmann::json::parse(text);
-    const nlohmann::json& pose = json.at("world_from_scanner");
-    const auto t = pose.at("translation").get<std::vector<double>>();
-    const auto q = pose.at("rotation_wxyz").get<std::vector<double>>();
-    if (t.size() != 3 || q.size() != 4)
-      throw ScanError(file, "translation needs 3 numbers and rotation_wxyz 4");
-    for (double value : t)
-      if (!std::isfinite(value)) throw ScanError(file, "the translation is not finite");
-    return poseFromQuaternion({t[0], t[1], t[2]}, q[0], q[1], q[2], q[3]);
+    json = parseSidecar(file, text);
   } catch (const ScanError&) {
     throw;
   } catch (const std::exception& error) {
     throw ScanError(file, std::string("not a pose sidecar: ") + error.what());
+  }
+  if (!json.is_object()) throw ScanError(file, "not a pose sidecar: not a JSON object");
+  // A later version may mean something else by the same keys: refused, not guessed at.
+  if (!json.contains("version") || !json.at("version").is_number_integer() ||
+      json.at("version").get<long long>() != kSidecarVersion)
+    throw ScanError(
+        file, "pose sidecar version " +
+                  (json.contains("version") ? json.at("version").dump() : std::string("missing")) +
+                  ": this Clearway reads version " + std::to_string(kSidecarVersion));
+  if (json.contains("source") && !json.at("source").is_string())
+    throw ScanError(file, "\"source\" must be text");
+  if (!json.contains("world_from_scanner"))
+    throw ScanError(file, "not a pose sidecar: no \"world_from_scanner\"");
+  const nlohmann::json& pose = json.at("world_from_scanner");
+  const std::vector<double> t = numbers(file, pose, "translation", 3);
+  const std::vector<double> q = numbers(file, pose, "rotation_wxyz", 4);
+  try {
+    return poseFromQuaternion({t[0], t[1], t[2]}, q[0], q[1], q[2], q[3]);
+  } catch (const std::invalid_argument& error) {
+    throw ScanError(file, error.what());
   }
 }
 

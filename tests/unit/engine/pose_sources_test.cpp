@@ -92,6 +92,45 @@ TEST(PoseSources, AnUnreadableSidecarIsAnErrorNamingIt) {
   }
 }
 
+// A sidecar is read only as the version it says it is, with each key once, and only when the scan
+// has one: a version 99, a repeated key (the last one won, a 180 deg turn) and two sidecars (one
+// was read, the other ignored) were all taken silently.
+TEST(PoseSources, ASidecarThatIsNotPlainlyOneIsRefusedNamingWhy) {
+  test::TemporaryDirectory folder;
+  saveRosiPcd(tiltedGarage().scan, folder / "garage.pcd");
+  const std::string pose = R"("world_from_scanner": {"translation": [0, 0, 1], "rotation_wxyz": )";
+  const std::pair<std::string, std::string> cases[] = {
+      {R"({"version": 99, )" + pose + "[1, 0, 0, 0]}}",
+       "version 99: this Clearway reads version 1"},
+      {"{" + pose + "[1, 0, 0, 0]}}", "version missing"},
+      {R"({"version": 1, )" + pose + R"([1, 0, 0, 0], "rotation_wxyz": [0, 1, 0, 0]}})",
+       "the key \"rotation_wxyz\" is given twice"},
+      {R"({"version": 1, )" + pose + R"([1, "0", 0, 0]}})", "\"rotation_wxyz\" holds \"0\""},
+      {R"({"version": 1, "source": 12, )" + pose + "[1, 0, 0, 0]}}", "\"source\" must be text"}};
+  for (const auto& [text, why] : cases) {
+    test::writeBytes(folder / "garage.pose.json", text);
+    Scan scan = loadScan(folder / "garage.pcd");
+    try {
+      resolveScanPose(scan, {});
+      ADD_FAILURE() << "accepted: " << text;
+    } catch (const ScanError& error) {
+      EXPECT_NE(std::string(error.what()).find(why), std::string::npos) << error.what();
+    }
+  }
+  test::writeBytes(folder / "garage.pose.json", R"({"version": 1, )" + pose + "[1, 0, 0, 0]}}");
+  Scan one = loadScan(folder / "garage.pcd");
+  EXPECT_EQ(resolveScanPose(one, {}).source, PoseSource::kSidecar);
+  test::writeBytes(folder / "garage.pcd.pose.json", R"({"version": 1, )" + pose + "[0, 1, 0, 0]}}");
+  Scan two = loadScan(folder / "garage.pcd");
+  try {
+    resolveScanPose(two, {});
+    ADD_FAILURE() << "two sidecars, one taken";
+  } catch (const ScanError& error) {
+    EXPECT_NE(std::string(error.what()).find("two pose sidecars"), std::string::npos)
+        << error.what();
+  }
+}
+
 TEST(PoseSources, MalformedPoseTextIsRefusedReadably) {
   EXPECT_THROW(parsePoseText("1,2,3"), std::invalid_argument);
   EXPECT_THROW(parsePoseText("0,0,0,0,0,0,0"), std::invalid_argument);
