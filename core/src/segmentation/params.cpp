@@ -196,7 +196,11 @@ std::vector<std::string> SegmentationParams::validate() const {
   if (robot.max_step >= robot.height)
     reasons.push_back("robot.max_step must be lower than robot.height");
   if (map.resolution * 4 > std::min(robot.width, robot.length))
-    reasons.push_back("map.resolution must be at most a quarter of the robot's width and length");
+    reasons.push_back("a robot " + readableNumber(std::min(robot.width, robot.length)) +
+                      " m across is too small for cells of " + readableNumber(map.resolution) +
+                      " m: its width and length must be at least 4 cells (" +
+                      readableNumber(4 * map.resolution) + " m), or map.resolution at most " +
+                      "a quarter of them");
   if (stairs.min_rise >= stairs.max_rise)
     reasons.push_back("stairs.min_rise must be lower than stairs.max_rise");
   if (stairs.min_tread >= stairs.max_tread)

@@ -76,6 +76,15 @@ TEST(Params, BadValuesComeBackAsReadableReasons) {
   EXPECT_THROW(paramsFromJson(nlohmann::json{{"robot", {{"width", "wide"}}}}),
                std::invalid_argument);
   EXPECT_THROW(runPipeline(garage(20).scan, params), std::invalid_argument);
+  // Too small a robot for the cells is said in the robot's terms, with the smallest that works.
+  SegmentationParams tiny;
+  tiny.robot.width = 0.05;
+  const auto too_small = tiny.validate();
+  ASSERT_EQ(too_small.size(), 1U);
+  EXPECT_NE(too_small.front().find("a robot 0.05 m across is too small for cells of 0.05 m"),
+            std::string::npos)
+      << too_small.front();
+  EXPECT_NE(too_small.front().find("at least 4 cells (0.2 m)"), std::string::npos);
 }
 
 TEST(Params, APresetWithOtherSizesIsNamedCustom) {
