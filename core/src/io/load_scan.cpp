@@ -11,12 +11,23 @@
 namespace clearway {
 namespace detail {
 
+void checkIsAScanFile(const std::filesystem::path& file) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(file, error);
+  // A symbolic link loop or a folder without permission is not "no such file".
+  if (error && error != std::errc::no_such_file_or_directory)
+    throw ScanError(file, "cannot reach it: " + error.message());
+  if (!std::filesystem::exists(status)) throw ScanError(file, "no such file");
+  if (std::filesystem::is_directory(status))
+    throw ScanError(file, "is a directory, not a scan file");
+  if (!std::filesystem::is_regular_file(status))
+    throw ScanError(file, "not a regular file (a device, a pipe or a socket), not a scan file");
+}
+
 std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,
                            std::uintmax_t& file_size) {
+  checkIsAScanFile(file);
   std::error_code error;
-  if (!std::filesystem::exists(file, error)) throw ScanError(file, "no such file");
-  if (std::filesystem::is_directory(file, error))
-    throw ScanError(file, "is a directory, not a scan file");
   file_size = std::filesystem::file_size(file, error);
   if (error) throw ScanError(file, "cannot read its size: " + error.message());
   if (file_size == 0) throw ScanError(file, "empty file");
@@ -82,6 +93,8 @@ std::string formatName(ScanFormat format) {
 }
 
 Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
+  // What the path is comes before what its name says: a folder is no "unknown extension ''".
+  detail::checkIsAScanFile(file);
   const ScanFormat format = formatFromPath(file);
   reportProgress(options.progress, 0.0);
   Scan scan;

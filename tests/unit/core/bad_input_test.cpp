@@ -59,6 +59,20 @@ TEST_F(BadInput, MissingFile) {
 TEST_F(BadInput, Directory) {
   std::filesystem::create_directory(directory / "folder.pcd");
   expectScanError(directory / "folder.pcd", "directory");
+  // Named for what it is, not for its missing extension.
+  std::filesystem::create_directory(directory / "folder");
+  expectScanError(directory / "folder", "is a directory, not a scan file");
+}
+
+// A pipe or a device named like a scan, and a link loop, said as such (they read "cannot read its
+// size: Operation not supported" and "no such file").
+TEST_F(BadInput, NotARegularFileOrUnreachable) {
+  ASSERT_EQ(::mkfifo((directory / "pipe.pcd").c_str(), 0600), 0);
+  expectScanError(directory / "pipe.pcd", "not a regular file");
+  expectScanError("/dev/null", "not a regular file");
+  std::filesystem::create_symlink(directory / "b.pcd", directory / "a.pcd");
+  std::filesystem::create_symlink(directory / "a.pcd", directory / "b.pcd");
+  expectScanError(directory / "a.pcd", "cannot reach it");
 }
 
 TEST_F(BadInput, UnreadableFile) {
