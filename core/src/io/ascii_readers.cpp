@@ -114,10 +114,13 @@ std::optional<SensorPose> readUosPose(const std::filesystem::path& scan_file) {
       ++word_end;
     double value = 0.0;
     const auto [parsed, failure] = std::from_chars(at, word_end, value);
-    if (failure != std::errc() || parsed != word_end || !std::isfinite(value) || count >= 6)
+    if (failure != std::errc() || parsed != word_end || !std::isfinite(value))
       throw ScanError(pose_file, "expected six finite numbers 'tx ty tz' and 'rx ry rz', found '" +
                                      std::string(at, std::min<std::size_t>(40, word_end - at)) +
                                      "'");
+    if (count >= 6)  // a seventh number: how many is the problem, not which
+      throw ScanError(pose_file,
+                      "expected six numbers 'tx ty tz' and 'rx ry rz', found more than six");
     values[count++] = value;
     at = word_end;
   }

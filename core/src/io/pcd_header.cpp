@@ -135,7 +135,9 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
   const std::string_view bytes = prefix;
   while (!has_data) {
     if (position >= bytes.size())
-      throw ScanError(file, "not a PCD file: no DATA line in the header");
+      throw ScanError(file, "not a PCD file: no DATA line in its first " +
+                                std::to_string(bytes.size()) +
+                                " bytes (a header longer than that is not one)");
     std::size_t end = bytes.find('\n', position);
     if (end == std::string_view::npos) end = bytes.size();
     const std::string_view line = bytes.substr(position, end - position);

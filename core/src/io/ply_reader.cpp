@@ -89,7 +89,9 @@ PlyHeader parsePlyHeader(const std::filesystem::path& file, const std::string& b
   while (true) {
     const std::size_t end = bytes.find('\n', position);
     if (end == std::string::npos || end > kMaxHeaderBytes)
-      throw ScanError(file, "not a PLY file: no end_header");
+      throw ScanError(file, "not a PLY file: no end_header in its first " +
+                                std::to_string(std::min(bytes.size(), kMaxHeaderBytes)) +
+                                " bytes (a header longer than that is not one)");
     std::istringstream line(bytes.substr(position, end - position));
     position = end + 1;
     std::string keyword;

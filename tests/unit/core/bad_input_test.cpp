@@ -343,6 +343,8 @@ TEST_F(BadInput, GarbledOrUnreadablePoseFile) {
   expectPoseError("'trailing'");
   test::writeBytes(pose, "1 2 nan\n4 5 6\n");
   expectPoseError("six finite numbers");
+  test::writeBytes(pose, "1 2 3\n4 5 6\n0\n");  // it named the '0', not the count
+  expectPoseError("found more than six");
   std::filesystem::remove(pose);
   std::filesystem::create_directory(pose);
   expectPoseError("directory");
