@@ -280,6 +280,9 @@ class PoseAndReachTest : public QObject {
     window.openScan(with_pose_.path);
     QVERIFY(shown_spy.wait(kTimeoutMs));
     QVERIFY2(scanInfo(window).contains("Pose: from the scan file"), qPrintable(scanInfo(window)));
+    // A heading nobody recorded is said to be a guess; the arrow alone read as known.
+    QCOMPARE(scanInfo(window).contains("Robot heading: guessed"),
+             !shown(window).map.robot_heading_known);
 
     window.openScan(without_pose_.path);
     QVERIFY(shown_spy.wait(kTimeoutMs));
@@ -305,6 +308,8 @@ class PoseAndReachTest : public QObject {
                  "Pose: from the acquisition's pose file (sidecar) (garage_sidecar.pose.json)"),
              qPrintable(scanInfo(window)));
     QVERIFY(!window.withholdsTraversable());
+    QVERIFY(shown(window).map.robot_heading_known);  // the sidecar's world is the robot's frame
+    QVERIFY2(!scanInfo(window).contains("Robot heading: guessed"), qPrintable(scanInfo(window)));
 
     window.openScan(without_pose_.path);
     QVERIFY(shown_spy.wait(kTimeoutMs));

@@ -93,6 +93,13 @@ QString humanSummary(const SessionResult& result) {
   if (!facts.caution.empty())
     text += QObject::tr("<br><b>Caution</b>: %1.")
                 .arg(QString::fromStdString(facts.caution).toHtmlEscaped());
+  // Without a recorded robot frame the heading drawn is one the box fits in, not one anybody
+  // measured: the arrow would otherwise read as known.
+  if (pipeline.trusted() && pipeline.map.robot_orientation >= 0 &&
+      !pipeline.map.robot_heading_known)
+    text += QObject::tr(
+        "<br>Robot heading: guessed (no recorded robot pose); the reach starts "
+        "from every heading its box fits in where it stands.");
   // A reach of a few cells beside a map of green says nothing by itself: say why it stops.
   if (pipeline.trusted() && !pipeline.map.reach_limit.empty())
     text += QObject::tr("<br>Reach: %1.")
