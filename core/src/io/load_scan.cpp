@@ -121,9 +121,21 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
 
   if (format == ScanFormat::kUos) markSaturatedRange(scan);
   markSelfHits(scan, options.self_hit_radius);
-  if (scan.validCount() == 0)
-    throw ScanError(file, "no valid points: all " + std::to_string(scan.size()) +
-                              " are no-returns or self hits");
+  if (scan.validCount() == 0) {
+    // Said by kind: a scan all at one range (the scanner's maximum, saturated) is not "no
+    // returns".
+    std::size_t by_kind[4] = {0, 0, 0, 0};
+    for (const PointStatus status : scan.status)
+      ++by_kind[std::min<std::size_t>(std::size_t(status), 3)];
+    std::string kinds;
+    const std::pair<PointStatus, const char*> names[] = {{PointStatus::kNoReturn, "no returns"},
+                                                         {PointStatus::kMaxRange, "at max range"},
+                                                         {PointStatus::kSelfHit, "self hits"}};
+    for (const auto& [status, name] : names)
+      if (const std::size_t count = by_kind[std::size_t(status)]; count > 0)
+        kinds += (kinds.empty() ? "" : ", ") + std::to_string(count) + " " + name;
+    throw ScanError(file, "no valid points: all " + std::to_string(scan.size()) + " are " + kinds);
+  }
   if (scan.lines.empty()) {
     reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
     if (options.rings == 0) recoverFiringOrderRings(scan);

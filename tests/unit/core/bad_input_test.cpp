@@ -224,7 +224,17 @@ TEST_F(BadInput, AllNaNCloud) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
   expectScanError(write("nan.pcd", pcdHeader("binary", "50", "1", "50") + floats(150, nan)),
                   "no valid points");
-  expectScanError(write("nan.xyz", "nan nan nan\nnan nan nan\n"), "no valid points");
+  expectScanError(write("nan.xyz", "nan nan nan\nnan nan nan\n"),
+                  "no valid points: all 2 are 2 no returns");
+}
+
+// A 3DTK scan all at one range is saturated, not empty of returns: said by kind.
+TEST_F(BadInput, AScanAllAtMaxRangeSaysSo) {
+  write("scan007.pose", "0 0 0\n0 0 0\n");
+  std::string rows;
+  for (int i = 0; i < 200; ++i)
+    rows += "370 0 0\n";
+  expectScanError(write("scan007.3d", rows), "are 200 at max range");
 }
 
 TEST_F(BadInput, XyzWithGarbageLine) {
