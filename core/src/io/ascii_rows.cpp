@@ -16,32 +16,40 @@ bool isSeparator(char c) {
 // Parses up to four numbers of one line; returns how many, or -1 for a non-numeric token.
 int parseLine(std::string_view line, std::array<double, 4>& values) {
   int columns = 0;
-  const char* at = line.data();
-  const char* end = line.data() + line.size();
+  std::size_t at = 0;
   while (true) {
-    while (at < end && isSeparator(*at))
+    while (at < line.size() && isSeparator(line[at]))
       ++at;
-    if (at == end) return columns;
+    if (at == line.size()) return columns;
+    std::size_t end = at;
+    while (end < line.size() && !isSeparator(line[end]))
+      ++end;
     double value = 0.0;
-    const char* start = (*at == '+') ? at + 1 : at;
-    const auto [next, error] = std::from_chars(start, end, value);
-    if (next == start || (next < end && !isSeparator(*next))) return -1;
-    if (error == std::errc::result_out_of_range) {
-      // 1e400 is a number, if not a usable one: infinite (or zero, when too small to tell).
-      const std::string_view digits(start, std::size_t(next - start));
-      const bool tiny = digits.find_first_of("eE") != std::string_view::npos &&
-                        digits.find('-', digits.find_first_of("eE")) != std::string_view::npos;
-      value = tiny ? 0.0 : (*start == '-' ? -1.0 : 1.0) * std::numeric_limits<double>::infinity();
-    } else if (error != std::errc()) {
-      return -1;
-    }
+    if (!parseNumberWord(line.substr(at, end - at), value)) return -1;
     if (columns < 4) values[std::size_t(columns)] = value;
     ++columns;
-    at = next;
+    at = end;
   }
 }
 
 }  // namespace
+
+bool parseNumberWord(std::string_view word, double& value) {
+  const char* start = word.data() + (!word.empty() && word.front() == '+' ? 1 : 0);
+  const char* end = word.data() + word.size();
+  const auto [next, error] = std::from_chars(start, end, value);
+  if (next == start || next != end) return false;
+  if (error == std::errc::result_out_of_range) {
+    // 1e400 is a number, if not a usable one: infinite (or zero, when too small to tell).
+    const std::string_view digits(start, std::size_t(end - start));
+    const std::size_t exponent = digits.find_first_of("eE");
+    const bool tiny =
+        exponent != std::string_view::npos && digits.find('-', exponent) != std::string_view::npos;
+    value = tiny ? 0.0 : (*start == '-' ? -1.0 : 1.0) * std::numeric_limits<double>::infinity();
+    return true;
+  }
+  return error == std::errc();
+}
 
 void parseNumberRows(const std::filesystem::path& file, std::string_view text,
                      const NumberRowRules& rules,

@@ -10,6 +10,10 @@
 
 namespace clearway::detail {
 
+// One number as text writes it (decimal or exponent, nan, inf, an optional sign) filling all of
+// `word`; one too large for a double is infinite, too small zero. False for anything else.
+bool parseNumberWord(std::string_view word, double& value);
+
 // What parseNumberRows expects of the rows.
 struct NumberRowRules {
   std::size_t min_columns = 3;  // every row holds at least this many numbers

@@ -14,6 +14,19 @@ namespace {
 // Below this a VIEWPOINT quaternion is taken for zero (its direction is rounding noise).
 constexpr double kSmallestQuaternionNorm = 1e-6;
 
+// A binary body whose first bytes are all digits, signs, points, spaces and line breaks is text:
+// binary floats of a scan hold zero bytes and bytes above 0x7f within a few points. Read as
+// floats, such a body gave coordinates of 1e28 and the rest of the file unread, without a word.
+constexpr std::size_t kTextProbeBytes = 256;
+bool bodyLooksLikeText(std::string_view body) {
+  if (body.size() < kTextProbeBytes) return false;  // too little to tell
+  return std::all_of(body.begin(), body.begin() + kTextProbeBytes, [](char c) {
+    return (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '+' || c == 'e' || c == 'E' ||
+           c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == 'n' || c == 'a' || c == 'i' ||
+           c == 'f';
+  });
+}
+
 // A piece of a line for an error message, with every byte that is not printable ASCII shown as
 // '?': a binary file opened as PCD must not write its bytes to the operator's terminal.
 std::string printableExcerpt(std::string_view text) {
@@ -228,6 +241,10 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     throw ScanError(
         file, "PCD header: POINTS " + std::to_string(header.points) + " is not WIDTH x HEIGHT");
   checkBodySize(file, prefix, file_size, header);
+  if (header.encoding == Encoding::kBinary && bodyLooksLikeText(prefix.substr(header.data_offset)))
+    throw ScanError(file,
+                    "PCD header says DATA binary, but its body reads as rows of numbers "
+                    "in text: is it DATA ascii?");
   checkBodyStart(file, prefix, header);
   return header;
 }

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cstring>
 #include <sstream>
+#include <string_view>
 
 #include "ascii_rows.h"
 #include "clearway/io/file_util.h"
@@ -168,6 +169,26 @@ void checkSizes(const std::filesystem::path& file, const PlyHeader& header,
   }
 }
 
+// One ascii PLY row into `row`: true when it holds exactly row.size() numbers (`values` set to
+// that) or none (a blank line, `values` 0).
+bool readPlyRow(std::string_view line, std::vector<double>& row, std::size_t& values) {
+  values = 0;
+  std::size_t at = 0;
+  const auto space = [](char c) { return c == ' ' || c == '\t' || c == '\r'; };
+  while (true) {
+    while (at < line.size() && space(line[at]))
+      ++at;
+    if (at == line.size()) return values == 0 || values == row.size();
+    std::size_t end = at;
+    while (end < line.size() && !space(line[end]))
+      ++end;
+    if (values == row.size()) return false;  // more numbers than properties
+    if (!parseNumberWord(line.substr(at, end - at), row[values])) return false;
+    ++values;
+    at = end;
+  }
+}
+
 int propertyIndex(const PlyElement& element, std::initializer_list<const char*> names) {
   for (const char* name : names)
     for (std::size_t i = 0; i < element.properties.size(); ++i)
@@ -212,18 +233,32 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
     if (&vertex != &header.elements.front())
       throw ScanError(file, "PLY: elements before the vertices are not supported in ascii files");
     if (vertex.properties.size() > 4 || ix > 3 || iy > 3 || iz > 3 || ii > 3 || ir > 3) {
-      // Rows with many columns: read them the slow, general way.
-      std::istringstream body(bytes.substr(header.body_offset));
+      // Rows with many columns: each a line of exactly one number per property, as the rows
+      // below (a stream read across lines took a row cut short with the next one's values).
+      std::size_t line_number = std::size_t(
+          std::count(bytes.begin(), bytes.begin() + std::ptrdiff_t(header.body_offset), '\n'));
+      std::size_t position = header.body_offset;
       std::vector<double> row(vertex.properties.size());
-      for (std::uint64_t v = 0; v < vertex.count; ++v) {
-        for (double& value : row)
-          if (!(body >> value))
-            throw ScanError(file, "truncated: vertex " + std::to_string(v) + " of " +
-                                      std::to_string(vertex.count) + " is missing or malformed");
+      for (std::uint64_t v = 0; v < vertex.count;) {
+        if (position >= bytes.size())
+          throw ScanError(file, "truncated: " + std::to_string(v) + " of " +
+                                    std::to_string(vertex.count) + " vertices present");
+        std::size_t end = bytes.find('\n', position);
+        if (end == std::string::npos) end = bytes.size();
+        const std::string_view line(bytes.data() + position, end - position);
+        position = end + 1;
+        ++line_number;
+        std::size_t values = 0;
+        if (!readPlyRow(line, row, values))
+          throw ScanError(file, "line " + std::to_string(line_number) + ": PLY vertex " +
+                                    std::to_string(v) + " is not " + std::to_string(row.size()) +
+                                    " numbers, one per property");
+        if (values == 0) continue;  // a blank line
         appendPoint(scan, float(row[std::size_t(ix)]), float(row[std::size_t(iy)]),
                     float(row[std::size_t(iz)]));
         if (ii >= 0) scan.intensity.push_back(float(row[std::size_t(ii)]));
         if (ir >= 0) ring_numbers.push_back(row[std::size_t(ir)]);
+        ++v;
       }
     } else {
       std::string_view body(bytes);

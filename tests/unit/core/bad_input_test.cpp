@@ -188,6 +188,16 @@ TEST_F(BadInput, AsciiPcdAsPclWritesItLoads) {
   EXPECT_FLOAT_EQ(scan.points[3].y, 8.0F);
 }
 
+// "DATA binary" over a text body read its digits as floats (coordinates of 1e28) and left the
+// rest of the file unread.
+TEST_F(BadInput, BinaryPcdWhoseBodyIsText) {
+  std::string rows;
+  for (int i = 0; i < 100; ++i)
+    rows += std::to_string(i) + ".125 " + std::to_string(2 * i) + ".5 -3.75\n";
+  expectScanError(write("text.pcd", pcdHeader("binary", "100", "1", "100") + rows),
+                  "body reads as rows of numbers in text: is it DATA ascii?");
+}
+
 // A zero VIEWPOINT quaternion was read as the identity.
 TEST_F(BadInput, ZeroViewpointQuaternion) {
   std::string bytes = pcdHeader("ascii", "2", "1", "2") + "1 2 3\n4 5 6\n";
@@ -289,6 +299,16 @@ TEST_F(BadInput, PlyWhoseBodyIsNotWhatItsHeaderSays) {
   expectScanError(write("more.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 2\n" +
                                         properties + floats(12, 1.0F)),
                   "PLY holds 24 bytes after its last vertex");
+  // Rows of more than four properties are held to the same: a short row is not completed with
+  // the next row's values.
+  const std::string five =
+      "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float nx\nproperty float intensity\nend_header\n";
+  expectScanError(write("short_row.ply", five + "1 2 3 0\n4 5 6 0 7\n8 9\n"),
+                  "line 10: PLY vertex 0 is not 5 numbers, one per property");
+  const Scan five_columns = loadScan(write("five.ply", five + "1 2 3 0 0.5\n\n4 5 6 0 0.25\n"));
+  ASSERT_EQ(five_columns.size(), 2U);
+  EXPECT_FLOAT_EQ(five_columns.intensity[1], 0.25F);
   // Faces after the vertices are rows of another shape, and are no error.
   const Scan with_faces = loadScan(
       write("faces.ply", "ply\nformat ascii 1.0\nelement vertex 3\n" +
