@@ -238,8 +238,16 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   if (!request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error))
     return result;
   laser.atSpeed(*link);
-  if (!lms.setSpeed(link->speed) ||
-      !request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) || interrupted())
+  if (!lms.setSpeed(link->speed)) {
+    // The laser now talks at a speed this port cannot follow (an adapter without 500,000 baud):
+    // nothing more can be said to it until it is powered off or found at its speed again.
+    error = "cannot set " + lms.path() + " to " + std::to_string(link->baud) +
+            " baud (does the serial adapter support it?); the laser stays at that speed until it "
+            "is powered off: choose another --baud";
+    laser.lost();
+    return result;
+  }
+  if (!request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) || interrupted())
     return result;
   // The table: home, speed, turn.
   error = table.home(timeout);
