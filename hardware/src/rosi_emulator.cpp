@@ -13,7 +13,6 @@
 #include <deque>
 #include <mutex>
 #include <numbers>
-#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
@@ -23,6 +22,7 @@
 #include "clearway/hardware/turntable_protocol.h"
 #include "clearway/sim/ray_caster.h"
 #include "clearway/sim/rosi_simulator.h"
+#include "link_speeds.h"
 
 namespace clearway::hardware {
 namespace {
@@ -67,23 +67,6 @@ sim::ScannerPlacement placementFor(const Eigen::Isometry3d& world_from_scanner) 
   placement.axis_roll_deg = std::atan2(placement.axis.normalized().dot(x0.cross(x)), x0.dot(x)) *
                             180.0 / std::numbers::pi;
   return placement;
-}
-
-// The link speed an LMS200 operating mode switches to: its termios speed and baud; none for the
-// modes that are not a speed.
-std::optional<std::pair<speed_t, int>> baudOfMode(std::uint8_t mode) {
-  switch (mode) {
-    case lms200::kModeBaud9600:
-      return std::pair{speed_t(B9600), 9600};
-    case lms200::kModeBaud19200:
-      return std::pair{speed_t(B19200), 19200};
-    case lms200::kModeBaud38400:
-      return std::pair{speed_t(B38400), 38400};
-    case lms200::kModeBaud500k:
-      return std::pair{speed_t(B500000), 500000};
-    default:
-      return std::nullopt;
-  }
 }
 
 }  // namespace
@@ -257,11 +240,11 @@ struct RosiEmulator::Impl {
         if (mode == lms200::kModeValuesOnRequest) continuous = false;
         // A new link speed takes effect after the reply, which still goes at the old one. It is
         // told (laserBaud) before the reply can be read: whoever waited for it sees the new one.
-        const auto baud = baudOfMode(mode);
-        if (baud) laser_baud = baud->second;
+        const auto baud = detail::linkSpeedOfMode(mode);
+        if (baud) laser_baud = baud->baud;
         queueLms(&ack, 1, false);
         reply(0xA0, {0x00});
-        if (baud) laser_speed = baud->first;
+        if (baud) laser_speed = baud->speed;
         return;
       }
       case lms200::kSwitchVariant:

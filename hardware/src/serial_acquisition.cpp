@@ -20,6 +20,7 @@
 #include "clearway/hardware/scan_journal.h"
 #include "clearway/hardware/serial_turntable.h"
 #include "clearway/hardware/turntable_protocol.h"
+#include "link_speeds.h"
 #include "scan_assembler.h"
 #include "serial_port.h"
 
@@ -27,6 +28,9 @@ namespace clearway::hardware {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+using detail::kLinkSpeeds;
+using detail::kPowerUpSpeed;
+using detail::LinkSpeed;
 using detail::nowMicros;
 using detail::SerialPort;
 using detail::waitReadable;
@@ -81,24 +85,6 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
   error = any_telegram || unrecognised.empty() ? "the laser scanner does not answer on " +
                                                      lms.path() + " (is it connected and powered?)"
                                                : wrongDeviceReason(lms.path(), unrecognised);
-  return std::nullopt;
-}
-
-struct LinkSpeed {
-  int baud;
-  std::uint8_t mode;  // the operating-mode telegram that switches the LMS200
-  speed_t speed;      // the port's setting to follow it
-};
-
-constexpr LinkSpeed kPowerUpSpeed{9600, lms200::kModeBaud9600, B9600};
-constexpr LinkSpeed kLinkSpeeds[] = {kPowerUpSpeed,
-                                     {19200, lms200::kModeBaud19200, B19200},
-                                     {38400, lms200::kModeBaud38400, B38400},
-                                     {500000, lms200::kModeBaud500k, B500000}};
-
-std::optional<LinkSpeed> linkSpeed(int baud) {
-  for (const LinkSpeed& speed : kLinkSpeeds)
-    if (speed.baud == baud) return speed;
   return std::nullopt;
 }
 
@@ -209,7 +195,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   result.pose = options.pose;
   result.scan.metadata.format = "rosi acquisition";
   result.scan.metadata.frame = "RoSi scanner frame: metres, z = turntable axis";
-  const std::optional<LinkSpeed> link = linkSpeed(options.baud);
+  const std::optional<LinkSpeed> link = detail::linkSpeedOfBaud(options.baud);
   if (!link) {
     result.error = "the LMS200 cannot run at " + std::to_string(options.baud) +
                    " baud (9600, 19200, 38400 or 500000)";

@@ -19,13 +19,6 @@
 namespace clearway::ui {
 namespace {
 
-// Cell labels that tell the operator the robot may drive there: all withheld while the up
-// direction is only estimated.
-bool drivable(CellLabel label) {
-  return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
-         label == CellLabel::kObstacle || label == CellLabel::kStairs;
-}
-
 constexpr double kDegrees = 180.0 / M_PI;
 
 const char* const kEstimatedStyle = "QWidget#trustBar { background: #8d4a00; }";

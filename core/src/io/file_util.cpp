@@ -10,16 +10,14 @@
 #include <system_error>
 
 #include "clearway/io/scan_error.h"
+#include "readers.h"
 
 namespace clearway {
 namespace fs = std::filesystem;
 
 std::string readWholeFile(const fs::path& file, std::uintmax_t max_bytes) {
+  detail::checkIsAScanFile(file);
   std::error_code error;
-  const fs::file_status status = fs::status(file, error);
-  if (error || !fs::exists(status)) throw ScanError(file, "no such file");
-  if (fs::is_directory(status)) throw ScanError(file, "is a directory, not a scan file");
-  if (!fs::is_regular_file(status)) throw ScanError(file, "not a regular file");
   const std::uintmax_t size = fs::file_size(file, error);
   if (error) throw ScanError(file, "cannot read its size: " + error.message());
   if (size == 0) throw ScanError(file, "empty file");

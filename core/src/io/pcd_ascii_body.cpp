@@ -1,11 +1,11 @@
 #include "pcd_ascii_body.h"
 
 #include <algorithm>
-#include <charconv>
 #include <fstream>
 #include <string>
 #include <string_view>
 
+#include "ascii_rows.h"
 #include "clearway/io/scan_error.h"
 
 namespace clearway::pcd {
@@ -13,18 +13,6 @@ namespace {
 
 bool isSpace(char c) {
   return c == ' ' || c == '\t' || c == '\r';
-}
-
-// A number as PCL writes one: decimal or exponent notation, nan, inf (either sign).
-bool isNumber(std::string_view word) {
-  double value = 0.0;
-  const char* first = word.data();
-  const char* last = word.data() + word.size();
-  if (first != last && *first == '+') ++first;  // from_chars takes no plus sign
-  const auto [end, error] = std::from_chars(first, last, value);
-  // Too large for a double is still a number the file holds (PCL reads it as infinite).
-  return end == last && end != first &&
-         (error == std::errc{} || error == std::errc::result_out_of_range);
 }
 
 std::string quoted(std::string_view line) {
@@ -60,7 +48,7 @@ void checkAsciiBody(const std::filesystem::path& file, const Header& header) {
       std::size_t end = start;
       while (end < view.size() && !isSpace(view[end]))
         ++end;
-      if (!isNumber(view.substr(start, end - start)))
+      if (double value = 0.0; !detail::parseNumberWord(view.substr(start, end - start), value))
         throw ScanError(file, "PCD line " + std::to_string(line_number) + ": " +
                                   quoted(view.substr(start, end - start)) + " is not a number");
       ++words;

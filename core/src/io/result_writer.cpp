@@ -204,8 +204,7 @@ void writeTraversabilityPng(const TraversabilityMap& map, const std::filesystem:
   for (int row = 0; row < map.grid.height; ++row)
     for (int column = 0; column < map.grid.width; ++column) {
       CellLabel label = map.label(column, row);
-      if (withhold_drivable && (robotFits(label) || label == CellLabel::kStairs))
-        label = CellLabel::kUnknown;
+      if (withhold_drivable && drivable(label)) label = CellLabel::kUnknown;
       const auto rgb = labelColour(label);
       image.at<cv::Vec3b>(map.grid.height - 1 - row, column) = cv::Vec3b(rgb[2], rgb[1], rgb[0]);
     }

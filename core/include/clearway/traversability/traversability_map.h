@@ -31,6 +31,11 @@ inline bool robotFits(CellLabel label) {
   return label == CellLabel::kTraversable || label == CellLabel::kCareful ||
          label == CellLabel::kObstacle;
 }
+// A cell the map tells the operator the robot may drive on: where it fits, and stairs it can
+// climb. All withheld where the result rests on an up direction nobody confirmed.
+inline bool drivable(CellLabel label) {
+  return robotFits(label) || label == CellLabel::kStairs;
+}
 // TraversabilityMap::orientation of a cell where no orientation fits (orientations are bytes).
 inline constexpr std::uint8_t kNoOrientation = 255;
 
