@@ -175,8 +175,6 @@ Scan readUos(const std::filesystem::path& file, const LoadOptions& options) {
 
 // A Velodyne sees at most about 120 m; a return farther than this is no measurement [m].
 constexpr double kFarthestVelodyneReturn = 1000.0;
-// A real frame holds no such record, or hardly any; a file with more is not a frame.
-constexpr double kImplausibleShare = 0.01;
 
 Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options) {
   const std::string bytes = readWholeFile(file, options.max_points * 16);
@@ -204,7 +202,7 @@ Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options)
   }
   // The format has no header to check: a file of other bytes would load as meaningless points.
   // Its floats are then mostly absurd (any bit pattern is some float), a real frame's never are.
-  if (double(implausible) > kImplausibleShare * double(count))
+  if (double(implausible) > kMostImplausiblePointShare * double(count))
     throw ScanError(file, "not a Velodyne frame: " + std::to_string(implausible) + " of " +
                               std::to_string(count) +
                               " records are not finite or lie over 1 km away (a KITTI .bin holds "

@@ -39,6 +39,11 @@ std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_by
   return prefix;
 }
 
+void addCaution(Scan& scan, const std::string& caution) {
+  std::string& all = scan.metadata.caution;
+  all += (all.empty() ? "" : "; ") + caution;
+}
+
 void appendPoint(Scan& scan, float x, float y, float z) {
   scan.points.push_back({x, y, z});
   const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
@@ -46,6 +51,40 @@ void appendPoint(Scan& scan, float x, float y, float z) {
 }
 
 }  // namespace detail
+
+namespace {
+
+// The farthest-reaching terrestrial laser scanners measure about 6 km; no robot's sensor returns a
+// point farther than this from itself [m]. Random bytes read as floats mostly are (any bit pattern
+// is some float, most of them huge), and so is a georeferenced cloud, whose float coordinates are
+// too coarse there for a 5 cm map anyway.
+constexpr double kFarthestPossibleReturn = 10'000.0;
+
+// Points lie in the sensor's frame (sensor_pose maps them to the world), so a point's distance from
+// the origin is its range. A few absurd ranges are corrupt records and become no-returns, said as
+// such; more than a few mean the body is not measurements at all, and the file is refused.
+void refuseOrDropImpossibleRanges(Scan& scan, const std::filesystem::path& file) {
+  std::size_t impossible = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!scan.isValid(i)) continue;
+    const Point3f& p = scan.points[i];
+    const double range = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
+    if (range <= kFarthestPossibleReturn) continue;
+    scan.status[i] = PointStatus::kNoReturn;
+    ++impossible;
+  }
+  if (impossible == 0) return;
+  const std::string counted = std::to_string(impossible) + " of " + std::to_string(scan.size()) +
+                              " points lie over 10 km from the sensor";
+  if (double(impossible) > detail::kMostImplausiblePointShare * double(scan.size()))
+    throw ScanError(file, "its points are not range measurements: " + counted +
+                              ", farther than any scanner measures (is the body corrupt, or its "
+                              "DATA type or byte order wrong? a georeferenced cloud must first be "
+                              "moved to its sensor's origin)");
+  detail::addCaution(scan, counted + " and were read as no returns (corrupt records)");
+}
+
+}  // namespace
 
 ScanFormat formatFromPath(const std::filesystem::path& file) {
   std::string extension = file.extension().string();
@@ -118,6 +157,7 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
   if (scan.empty()) throw ScanError(file, "empty cloud: no points");
   scan.metadata.source_path = file.string();
   if (scan.sensor_pose) scan.pose_source = PoseSource::kFile;
+  refuseOrDropImpossibleRanges(scan, file);
 
   if (format == ScanFormat::kUos) markSaturatedRange(scan);
   markSelfHits(scan, options.self_hit_radius);

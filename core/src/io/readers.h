@@ -30,6 +30,13 @@ std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_by
 // Throws ScanError naming what is wrong.
 std::size_t checkTextScanStart(const std::filesystem::path& file);
 
+// A real scan holds no point its sensor cannot have measured, or hardly any (corrupt records); a
+// file with a larger share of them is not a scan.
+constexpr double kMostImplausiblePointShare = 0.01;
+
+// Appends to what the user must know to read the result (ScanMetadata::caution).
+void addCaution(Scan& scan, const std::string& caution);
+
 // Adds a point, marking it kNoReturn when a coordinate is not finite.
 void appendPoint(Scan& scan, float x, float y, float z);
 

@@ -9,6 +9,8 @@
 #include <type_traits>
 #include <vector>
 
+#include "readers.h"
+
 namespace clearway {
 namespace {
 
@@ -358,7 +360,7 @@ std::size_t recoverFiringOrderRings(Scan& scan) {
                "whose lasers sit apart, like an HDL-64E's, seen from one point): it is read as "
                "short vertical fans, which it is not; save it ring after ring or with a ring "
                "field";
-    scan.metadata.caution = caution.str();
+    detail::addCaution(scan, caution.str());
     return std::size_t{0};
   };
 

@@ -423,6 +423,38 @@ TEST_F(BadInput, TextNotesInAScanFolderAreNoScans) {
   EXPECT_TRUE(looksLikeScanFile(write("scan.pcd", "whatever: loadScan judges it")));
 }
 
+// A binary body of other bytes (random, or the wrong DATA type) reads as floats whatever it
+// holds; most such points lie farther away than any scanner measures. They had loaded silently.
+TEST_F(BadInput, BinaryBodiesOfOtherBytesAreNoScans) {
+  constexpr int kPoints = 1000;
+  std::string noise(kPoints * 12, '\0');
+  unsigned state = 2026;
+  for (char& c : noise)
+    c = char((state = state * 1103515245 + 12345) >> 16);
+  expectScanError(write("noise_body.pcd", pcdHeader("binary", "1000", "1", "1000") + noise),
+                  "points are not range measurements");
+  expectScanError(write("noise_body.ply",
+                        "ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty "
+                        "float x\nproperty float y\nproperty float z\nend_header\n" +
+                            noise),
+                  "lie over 10 km from the sensor");
+}
+
+// A few points beyond any scanner's reach among real ones are corrupt records: no-returns, and
+// the scan says how many.
+TEST_F(BadInput, AFewPointsBeyondAnyScannersReachAreNoReturnsAndSaidSo) {
+  std::string rows;
+  constexpr int kRows = 400;
+  for (int i = 0; i < kRows; ++i)
+    rows += (i % 200 == 3 ? "3e12 1 -1" : std::to_string(2.0 + 0.01 * i) + " 9000 -1.2") + "\n";
+  const Scan scan = loadScan(write("two_far.xyz", rows));
+  ASSERT_EQ(scan.size(), std::size_t(kRows));
+  EXPECT_EQ(scan.validCount(), std::size_t(kRows - 2));  // 9 km away is still a measurement
+  EXPECT_FALSE(scan.isValid(3));
+  EXPECT_NE(scan.metadata.caution.find("2 of 400 points lie over 10 km"), std::string::npos)
+      << scan.metadata.caution;
+}
+
 TEST_F(BadInput, KittiFileWithAbsurdCoordinates) {
   // One record in ten at 1e30 m, the rest a plausible frame.
   std::string bytes;
