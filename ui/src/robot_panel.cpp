@@ -12,8 +12,8 @@
 namespace clearway::ui {
 namespace {
 
-// Slider steps are centimetres; sliders stop at 4 m (the spin boxes too: a larger robot is no
-// robot this console plans for).
+// Slider steps are centimetres; sliders stop at 4 m, so that a centimetre is still a step a hand
+// can make. The spin boxes take the parameter table's whole range, as the CLI does.
 constexpr double kSliderScale = 100.0;
 constexpr double kSliderMaximum = 4.0;
 const char* const kCustom = "custom";
@@ -101,8 +101,9 @@ RobotPanel::RobotPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<P
     const ParameterInfo& info = infoFor(infos, key);
     Private::Dimension dimension{key};
     dimension.slider = new QSlider(Qt::Horizontal, this);
-    dimension.slider->setRange(int(std::ceil(info.minimum * kSliderScale)),
-                               int(std::floor(std::min(info.maximum, 4.0) * kSliderScale)));
+    dimension.slider->setRange(
+        int(std::ceil(info.minimum * kSliderScale)),
+        int(std::floor(std::min(info.maximum, kSliderMaximum) * kSliderScale)));
     dimension.spin = new QDoubleSpinBox(this);
     dimension.spin->setRange(info.minimum, info.maximum);
     dimension.spin->setDecimals(2);
