@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include "arguments.h"
 #include "clearway/io/scan_io.h"
@@ -124,7 +125,13 @@ int runSimulate(const std::vector<std::string>& words) {
   }
 
   const auto start = std::chrono::steady_clock::now();
-  const sim::SimulatedScan simulated = sim::simulateRosi(scene, sensor, placement);
+  const sim::SimulatedScan simulated = [&] {
+    try {
+      return sim::simulateRosi(scene, sensor, placement);
+    } catch (const std::invalid_argument& error) {  // the placement the options gave
+      throw UsageError(error.what());
+    }
+  }();
   const double simulate_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   const std::filesystem::path scan_file = *output;

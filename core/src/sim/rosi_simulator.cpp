@@ -6,6 +6,8 @@
 #include <map>
 #include <numbers>
 #include <random>
+#include <sstream>
+#include <stdexcept>
 
 #include "clearway/sim/ray_caster.h"
 
@@ -76,6 +78,16 @@ SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
   const Eigen::Isometry3d world_from_scanner = placement.worldFromScanner();
   const Eigen::Matrix3d rotation = world_from_scanner.linear();
   const Eigen::Vector3d origin = world_from_scanner.translation();
+  // A scanner inside a solid sees the solid's far side from within, which no scanner can: the
+  // scan would be a scene that does not exist, and its truth would judge the map against it.
+  for (const Primitive& primitive : scene.primitives)
+    if (primitive.holdsInside(origin)) {
+      std::ostringstream where;
+      where << "the scanner at (" << origin.x() << ", " << origin.y() << ", " << origin.z()
+            << ") is inside '" << primitive.name << "' of the scene '" << scene.name
+            << "': place it in free space";
+      throw std::invalid_argument(where.str());
+    }
   std::mt19937 random(sensor.seed);
   std::normal_distribution<double> noise(0.0, sensor.range_noise_sigma);
   // The lost returns' own generator: with no dropout, nothing is drawn from it.

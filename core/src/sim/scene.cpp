@@ -1,6 +1,7 @@
 #include "clearway/sim/scene.h"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <numbers>
 #include <numeric>
 
@@ -12,6 +13,14 @@ Eigen::Matrix3d Primitive::rotation() const {
           Eigen::AngleAxisd(pitch_deg * to_rad, Eigen::Vector3d::UnitY()) *
           Eigen::AngleAxisd(roll_deg * to_rad, Eigen::Vector3d::UnitX()))
       .toRotationMatrix();
+}
+
+bool Primitive::holdsInside(const Eigen::Vector3d& point) const {
+  const Eigen::Vector3d local = rotation().transpose() * (point - center);
+  const Eigen::Vector3d half = size / 2;
+  if (shape == Shape::kCylinder)
+    return std::abs(local.z()) < half.z() && local.head<2>().norm() < half.x();
+  return (local.cwiseAbs() - half).maxCoeff() < 0.0;
 }
 
 std::vector<std::pair<std::string, std::string>> reachablePlaces(const Scene& scene,

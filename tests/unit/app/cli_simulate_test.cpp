@@ -76,6 +76,9 @@ TEST(CliSimulate, BadScenesAndOptionsFailClearly) {
   EXPECT_EQ(runCli("simulate garage --lines 0" + out).exit_code, 2);
   EXPECT_EQ(runCli("simulate garage --axis 0,0,0" + out).exit_code, 2);
   EXPECT_EQ(runCli("simulate garage").exit_code, 2);
+  const auto in_wall = runCli("simulate stairwell --position 1,0.8,1" + out);
+  EXPECT_EQ(in_wall.exit_code, 2);
+  EXPECT_NE(in_wall.err.find("is inside 'left_wall'"), std::string::npos) << in_wall.err;
   // A scene option the scene does not use would be ignored without a word.
   const auto ignored = runCli("simulate doorways --door-width 1.1" + out);
   EXPECT_EQ(ignored.exit_code, 2);

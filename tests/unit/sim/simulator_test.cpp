@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+#include <string>
 
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/ray_caster.h"
@@ -162,6 +164,35 @@ TEST(RosiSimulator, MixedPixelsAppearOnlyAtDepthEdges) {
 TEST(RosiSimulator, LinesFollowTheTurntableSpeed) {
   EXPECT_EQ(SensorModel::linesForSpeed(45.0), 300);  // 37.5 lines/s * 8 s
   EXPECT_EQ(SensorModel::linesForSpeed(168.75), 80);
+}
+
+// A scanner inside a solid would see the solid's far faces from within: a scene that cannot be,
+// whose truth the map would be judged against (a sweep placed the RoSi inside the stairwell's
+// walls and counted up to 295 false cells).
+TEST(RosiSimulator, AScannerInsideASolidIsRefusedWithItsName) {
+  const sim::Scene scene = *sim::builtinScene("stairwell");
+  sim::ScannerPlacement placement = sim::defaultPlacement(scene);
+  sim::SensorModel sensor;
+  sensor.lines = 4;
+  placement.position = {1.0, 0.8, 1.0};  // the left wall spans y 0.7-0.9
+  try {
+    sim::simulateRosi(scene, sensor, placement);
+    ADD_FAILURE() << "a scanner inside the wall was simulated";
+  } catch (const std::invalid_argument& error) {
+    EXPECT_NE(std::string(error.what()).find("inside 'left_wall'"), std::string::npos)
+        << error.what();
+  }
+  placement.position = {1.0, 0.95, 1.0};  // beside the wall, outside the stairwell: free space
+  EXPECT_EQ(sim::simulateRosi(scene, sensor, placement).scan.lines.size(), 4U);
+  // A cylinder holds its inside too.
+  sim::Primitive pipe;
+  pipe.shape = sim::Shape::kCylinder;
+  pipe.center = {2.0, 0.0, 1.0};
+  pipe.size = {0.4, 0.4, 3.0};
+  pipe.roll_deg = 90.0;  // along y
+  EXPECT_TRUE(pipe.holdsInside({2.1, 1.2, 1.1}));
+  EXPECT_FALSE(pipe.holdsInside({2.1, 1.6, 1.1}));    // beyond its end
+  EXPECT_FALSE(pipe.holdsInside({2.15, 0.0, 1.15}));  // in its box, outside its round
 }
 
 TEST(RosiSimulator, TiltedAxisStillSeesTheSameWorld) {

@@ -31,6 +31,8 @@ struct Primitive {
   bool transparent = false;  // glass: the beam returns nothing
 
   Eigen::Matrix3d rotation() const;  // primitive frame -> world
+  // Whether `point` (world) lies inside the solid, its surface excluded.
+  bool holdsInside(const Eigen::Vector3d& point) const;
 };
 
 // A place a robot may be asked to reach (x, y on the floor at height z).
