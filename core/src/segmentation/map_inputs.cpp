@@ -533,7 +533,8 @@ void forEachPlaneBorder(const MapInputs& inputs, Visit&& visit) {
 // edge's face (returns up to 5 cm below it), so the cell at the edge stands lower than its level,
 // and a 0.15 m drop measured cell to cell splits into two steps a 0.1 m robot takes (the outdoor
 // scene's kerb seen from beyond it). Both cells keep that step (seam_step), as a join's do.
-void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane_heights) {
+void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane_heights,
+                    const std::vector<Plane>& planes) {
   auto planeZ = [&](int plane, const Eigen::Vector2d& p) {
     return heightOnPlane(plane_heights[std::size_t(plane)], p.x(), p.y());
   };
@@ -543,7 +544,16 @@ void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane
         std::abs(double(inputs.ground_height[here]) - double(inputs.ground_height[there]));
     if (cells_step <= detail::EdgeLimit::kTouchingStep) return;
     const double planes_step = std::abs(planeZ(a, between) - planeZ(b, between));
-    const float step = float(std::max(cells_step, std::isfinite(planes_step) ? planes_step : 0.0));
+    // Measured as a join's step is (EdgeLimit::joinedStep), plus what either side is measured to:
+    // each plane's height is good to about its rms residual (a plane fitted over slabs tilted
+    // against each other passes centimetres off the slab at its edge), and the cells either side
+    // hold the face's returns. Without the allowance the outdoor scene's slab joint, 0.14-0.17 m
+    // where the robot's box stood, was measured 0.12-0.15 m and crossed with a 0.14 m step (140
+    // false cells, docs/ALGORITHM.md).
+    const double uncertainty = std::max(detail::EdgeLimit::kJoinedStepUncertainty,
+                                        planes[std::size_t(a)].rms + planes[std::size_t(b)].rms);
+    const float step =
+        float(std::max(cells_step, std::isfinite(planes_step) ? planes_step : 0.0) + uncertainty);
     inputs.seam_step[here] = std::max(inputs.seam_step[here], step);
     inputs.seam_step[there] = std::max(inputs.seam_step[there], step);
   });
@@ -675,7 +685,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
              cell_of, inputs.grid, threads);
   markTriangleCells(inputs, ground_of, limit, cell_of, threads);
   markSingleHoles(inputs);
-  markPlaneEdges(inputs, limit.plane_heights);
+  markPlaneEdges(inputs, limit.plane_heights, analysis.planes.planes);
 
   inputs.ground_spacing =
       groundSpacing(inputs, analysis, stepsApartAlongLines(bridged, cell_of, inputs.grid), threads);

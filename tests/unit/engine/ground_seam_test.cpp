@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <memory>
 #include <numbers>
+#include <optional>
 
 #include "clearway/pipeline.h"
 #include "engine_fixtures.h"
@@ -112,8 +113,10 @@ struct SlabJointView {
   double robot_width, robot_length, robot_step;
 };
 
-// The simulated view of the joint, segmented and scored for its robot.
-eval::Evaluation slabJoint(const SlabJointView& view) {
+// The simulated view of the joint, segmented and scored for its robot; the scanner at the scene's
+// place unless `position` is given.
+eval::Evaluation slabJoint(const SlabJointView& view,
+                           const std::optional<Eigen::Vector3d>& position = std::nullopt) {
   const sim::Scene scene = *sim::builtinScene("outdoor");
   sim::SensorModel sensor;
   sensor.lines = view.lines;
@@ -125,6 +128,7 @@ eval::Evaluation slabJoint(const SlabJointView& view) {
       Eigen::AngleAxisd(view.tilt_deg * std::numbers::pi / 180, Eigen::Vector3d::UnitX()) *
       placement.axis;
   placement.axis_roll_deg = view.roll_deg;
+  if (position) placement.position = *position;
   SegmentationParams params;
   params.robot.width = view.robot_width;
   params.robot.length = view.robot_length;
@@ -151,6 +155,18 @@ TEST(GroundSeam, AStepTheTrianglesSpreadIsStillAStepForTheRobot) {
   // across it (3 false cells).
   const eval::Evaluation e = slabJoint({350, 409, 0.015, false, 14.91, 11.27, 0.739, 1.35, 0.05});
   EXPECT_GT(e.map.traversable_cells, 10000U);
+  EXPECT_EQ(e.map.false_traversable_cells, 0U);
+}
+
+TEST(GroundSeam, ASlabJointJustHigherThanTheStepIsNotCrossed) {
+  // Seen from 1 m to the left, where the joint rises 0.14-0.17 m (y = 3.7-4.6 m) for a robot
+  // whose step is 0.14 m: the plane fitted over the rolled slab, and slab_3 beyond it, passes 2 cm
+  // below the slab at the joint, and the cells either side hold the face's returns, so the joint
+  // measured 0.12-0.13 m and the robot's box stood across it (140 false cells). Measured as a
+  // join's step is, with 2 cm for what either side is measured to, it is not crossed.
+  const eval::Evaluation e =
+      slabJoint({154, 2, 0.0034, false, 21.34, 0.0, 0.928, 0.926, 0.14}, {{0.81, 0.919, 1.2}});
+  EXPECT_GT(e.map.traversable_cells, 9000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
