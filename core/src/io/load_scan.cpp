@@ -78,9 +78,9 @@ void refuseOrDropImpossibleRanges(Scan& scan, const std::filesystem::path& file)
                               " points lie over 10 km from the sensor";
   if (double(impossible) > detail::kMostImplausiblePointShare * double(scan.size()))
     throw ScanError(file, "its points are not range measurements: " + counted +
-                              ", farther than any scanner measures (is the body corrupt, or its "
-                              "DATA type or byte order wrong? a georeferenced cloud must first be "
-                              "moved to its sensor's origin)");
+                              ", farther than any scanner measures (is the body corrupt, its DATA "
+                              "type or byte order wrong, or its unit not metres? a georeferenced "
+                              "cloud must first be moved to its sensor's origin)");
   detail::addCaution(scan, counted + " and were read as no returns (corrupt records)");
 }
 
