@@ -64,12 +64,12 @@ constexpr double kFarthestPossibleReturn = 10'000.0;
 // the origin is its range. A few absurd ranges are corrupt records and become no-returns, said as
 // such; more than a few mean the body is not measurements at all, and the file is refused.
 void refuseOrDropImpossibleRanges(Scan& scan, const std::filesystem::path& file) {
+  constexpr double kFarthestSquared = kFarthestPossibleReturn * kFarthestPossibleReturn;
   std::size_t impossible = 0;
   for (std::size_t i = 0; i < scan.size(); ++i) {
     if (!scan.isValid(i)) continue;
     const Point3f& p = scan.points[i];
-    const double range = std::sqrt(double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z);
-    if (range <= kFarthestPossibleReturn) continue;
+    if (double(p.x) * p.x + double(p.y) * p.y + double(p.z) * p.z <= kFarthestSquared) continue;
     scan.status[i] = PointStatus::kNoReturn;
     ++impossible;
   }
