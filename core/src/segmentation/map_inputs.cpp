@@ -16,6 +16,7 @@
 #include "face_returns.h"
 #include "ground_continuation.h"
 #include "ground_triangles.h"
+#include "lost_beams.h"
 #include "parallel.h"
 #include "plane_borders.h"
 
@@ -614,6 +615,8 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markTriangleCells(inputs, ground_of, limit, cell_of, threads);
   markSingleHoles(inputs);
   detail::markPlaneEdges(inputs, limit.plane_heights, analysis.planes.planes);
+  inputs.lost_beam_crossings = detail::lostBeamCrossings(scan, analysis.sensor, map_from_scanner,
+                                                         inputs.grid, inputs.ground_plane);
 
   inputs.ground_spacing =
       groundSpacing(inputs, analysis, stepsApartAlongLines(bridged, cell_of, inputs.grid), threads);

@@ -408,6 +408,34 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
     }
 }
 
+// Where lost returns' beams went down through the ground's level the floor ends: those cells are
+// drops. Their blocking positions (with their cells) are where the beams crossed and each cell's
+// centre (an unobserved cell blocks the exact test by its centre), so that a box's edge keeps off a
+// drop's near side too. None inside `recorded_box`, the robot's recorded place: beams lost on its
+// own dark body.
+struct Drops {
+  std::vector<Eigen::Vector2f> positions;
+  std::vector<std::uint32_t> cells;
+};
+Drops dropsWhereLostBeamsCrossed(const MapInputs& inputs, const RobotBox* recorded_box) {
+  Drops drops;
+  const MapGrid& grid = inputs.grid;
+  std::vector<std::uint8_t> is_drop(inputs.lost_beam_crossings.empty() ? 0 : grid.cells(), 0);
+  for (const LostBeamCrossing& crossing : inputs.lost_beam_crossings) {
+    if (recorded_box && recorded_box->contains(crossing.x, crossing.y, 0.0)) continue;
+    if (!is_drop[crossing.cell]) {
+      is_drop[crossing.cell] = 1;
+      const Eigen::Vector2d centre = grid.centre(int(crossing.cell % std::uint32_t(grid.width)),
+                                                 int(crossing.cell / std::uint32_t(grid.width)));
+      drops.positions.emplace_back(float(centre.x()), float(centre.y()));
+      drops.cells.push_back(crossing.cell);
+    }
+    drops.positions.emplace_back(crossing.x, crossing.y);
+    drops.cells.push_back(crossing.cell);
+  }
+  return drops;
+}
+
 }  // namespace
 
 std::vector<int> reachableGround(const ScanAnalysis& analysis, double max_step) {
@@ -490,6 +518,13 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
       classes.state[o.cell] = CellState::kLowObstacle;
     }
   }
+  const Drops drops = dropsWhereLostBeamsCrossed(
+      inputs, own_place && analysis.robot_from_scanner ? &own_box : nullptr);
+  for (const std::uint32_t cell : drops.cells) {
+    ++blocking_count[cell];
+    lowest_block[cell] = 0.0F;
+    classes.reason[cell] = CellReason::kTooSteep;
+  }
   for (std::size_t cell = 0; cell < cells; ++cell) {
     if (blocking_count[cell] == 0) continue;
     const bool was_blocked = classes.state[cell] == CellState::kBlocked;
@@ -560,6 +595,10 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     const MapObstacle& o = inputs.obstacles[i];
     classes.xs[fill[o.cell]] = o.x;
     classes.ys[fill[o.cell]++] = o.y;
+  }
+  for (std::size_t i = 0; i < drops.cells.size(); ++i) {
+    classes.xs[fill[drops.cells[i]]] = drops.positions[i].x();
+    classes.ys[fill[drops.cells[i]]++] = drops.positions[i].y();
   }
   return classes;
 }

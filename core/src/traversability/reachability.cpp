@@ -66,13 +66,21 @@ RobotPose robotPoseOnMap(const ScanAnalysis& analysis, const RobotParams& robot,
     return Eigen::Vector2i(int(std::floor(x / resolution)) + centre_cell,
                            int(std::floor(y / resolution)) + centre_cell);
   };
-  for (const MapObstacle& o : analysis.inputs.obstacles) {
-    if (o.height <= robot.max_step || o.height >= robot.height) continue;
-    const Eigen::Vector2i c = cellOf(o.x, o.y);
-    if (c.x() < 0 || c.y() < 0 || c.x() >= side || c.y() >= side) continue;
+  auto addBlocking = [&](double x, double y) {
+    const Eigen::Vector2i c = cellOf(x, y);
+    if (c.x() < 0 || c.y() < 0 || c.x() >= side || c.y() >= side) return;
     std::uint16_t& count = blocking[std::size_t(c.y()) * std::size_t(side) + std::size_t(c.x())];
     if (count < std::numeric_limits<std::uint16_t>::max()) ++count;
-  }
+  };
+  for (const MapObstacle& o : analysis.inputs.obstacles)
+    if (o.height > robot.max_step && o.height < robot.height) addBlocking(o.x, o.y);
+  // Where a beam that came back with nothing went down through the ground's level, the floor ends:
+  // that weighs as a blocking return. Counted as unobserved floor, it let the box of a scanner on
+  // a ledge overhang the drop beside it, and the robot's own place, ground seen or not, showed the
+  // drop traversable (4-16 false cells: a scanner 0.15-0.45 m from a platform's edge, the
+  // stairwell's side floor in a random sweep; tests/unit/engine/lost_beams_test.cpp).
+  for (const LostBeamCrossing& crossing : analysis.inputs.lost_beam_crossings)
+    addBlocking(crossing.x, crossing.y);
   const MapGrid& grid = analysis.inputs.grid;
   const std::vector<std::int16_t>& ground_plane = analysis.inputs.ground_plane;
   // The robot stands on a level it can drive on: ground of another level under the box (a

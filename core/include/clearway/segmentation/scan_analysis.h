@@ -69,6 +69,11 @@ struct SweepNeighbours {
   std::vector<Beam> beams;
 };
 
+// Where a beam that came back with nothing went down through the ground's level: no floor there.
+struct LostBeamCrossing {
+  std::uint32_t cell = 0;
+  float x = 0.0F, y = 0.0F;  // map position [m]
+};
 // Where two ground planes meet on the map, and the smallest step between them there.
 struct GroundContact {
   int a = -1, b = -1;
@@ -114,6 +119,9 @@ struct MapInputs {
   // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
   // robot's step (docs/ALGORITHM.md, "Sparse scans never lie").
   std::vector<float> ground_spacing;
+  // Where lost returns' beams went down through the reference ground's level over unobserved
+  // cells: nothing stood there to send them back (lost_beams.h).
+  std::vector<LostBeamCrossing> lost_beam_crossings;
   std::vector<MapObstacle> obstacles;
   SweepNeighbours sweep_neighbours;  // empty for multi-beam frames
   std::vector<GroundContact> contacts;
