@@ -94,7 +94,9 @@ std::vector<LostBeamCrossing> lostBeamCrossings(const Scan& scan, const SensorGe
                                                 const std::vector<std::int16_t>& ground_plane) {
   std::vector<LostBeamCrossing> crossings;
   const double scanner_z = map_from_scanner.translation().z();
-  if (sensor.kind != SensorKind::kRotating2D || sensor.along_line_step <= 0.0 || scanner_z <= 0.0)
+  // (Written so that a NaN step or height gives no crossing either.)
+  if (sensor.kind != SensorKind::kRotating2D || !(sensor.along_line_step > 0.0) ||
+      !(scanner_z > 0.0))
     return crossings;
   const double least_descent = std::sin(kSteepestUnreturnedDeg * std::numbers::pi / 180.0);
   const Eigen::Matrix3d map_from_scanner_rotation = map_from_scanner.linear();

@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -153,10 +154,11 @@ Scan fanOverFloor(const std::vector<int>& lost) {
   return scan;
 }
 
-std::vector<LostBeamCrossing> crossingsOf(const Scan& scan, MapGrid* grid_out = nullptr) {
+std::vector<LostBeamCrossing> crossingsOf(const Scan& scan, MapGrid* grid_out = nullptr,
+                                          double sensor_step = 1.0 * kDeg) {
   SensorGeometry sensor;
   sensor.kind = SensorKind::kRotating2D;
-  sensor.along_line_step = 1.0 * kDeg;
+  sensor.along_line_step = sensor_step;
   sensor.lines = 1;
   Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
   map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
@@ -225,6 +227,9 @@ TEST(LostBeams, NoDirectionIsGuessedWhereTheReturnsAroundARunDoNotTurnByTheStep)
   const Eigen::Vector3d along = beamOf(46) * 3.0;
   scan.points[46] = {float(along.x()), float(along.y()), float(along.z())};
   EXPECT_EQ(crossingsOf(scan).size(), 5U);
+  // A sensor whose step is not known (0, NaN) gives no direction to check against.
+  EXPECT_TRUE(crossingsOf(scan, nullptr, 0.0).empty());
+  EXPECT_TRUE(crossingsOf(scan, nullptr, std::numeric_limits<double>::quiet_NaN()).empty());
 }
 
 }  // namespace
