@@ -26,11 +26,11 @@ constexpr double kSteepestUnreturnedDeg = 20.0;
 // A return this far under the reference ground's level [m] is past the floor: a drop's bottom, or
 // a wall below the floor's edge (not the floor with its noise, nor a low kerb).
 constexpr double kUnderFloor = 0.2;
-// A run that reaches its line's end has no return beyond it to say where the beams went: it must be
-// this long. Lost echoes come one at a time (a third of them lost at random makes such a run at one
-// line end in 170,000; with 6, the simulator's floors showed a few crossings in 2 of 36 scans);
-// the beams past a floor's edge are lost to the fan's end.
-constexpr std::size_t kLeastRunToTheEnd = 10;
+// A run this long is a drop whatever lies around it (a pit whose far side was seen, a floor's edge
+// with the fan's end beyond it): lost echoes come one at a time, and a third of them lost at random
+// makes such a run once in 170,000 places (with 6 beams, the simulator's floors showed a few
+// crossings in 2 of 36 scans).
+constexpr std::size_t kLeastUnexplainedRun = 10;
 
 bool lost(PointStatus status) {
   return status == PointStatus::kNoReturn || status == PointStatus::kMaxRange;
@@ -127,18 +127,18 @@ std::vector<LostBeamCrossing> lostBeamCrossings(const Scan& scan, const SensorGe
       const bool before = run_first > line.first && scan.isValid(run_first - 1);
       const bool after = i < end && scan.isValid(i);
       // Echoes lost now and then between seen surfaces (a dark patch, a sensor's dropout) are not
-      // a drop: the run must be longer than the ground triangles bridge, and open on one side,
+      // a drop: the run must be longer than the ground triangles bridge and open on one side,
       // where its next return lies well under the floor's level (the beam went on down past it),
-      // or where the line ends after a run as long as few lost echoes make.
+      // or longer than lost echoes make.
       auto underFloor = [&](std::size_t index) {
         const Eigen::Vector3d p(scan.points[index].x, scan.points[index].y, scan.points[index].z);
         return (map_from_scanner * p).z() < -kUnderFloor;
       };
       const std::size_t run_length = run_last - run_first + 1;
-      const bool open_to_the_end =
-          (run_first == line.first || i == end) && run_length >= kLeastRunToTheEnd;
       const bool open_downwards = (before && underFloor(run_first - 1)) || (after && underFloor(i));
-      if (run_length <= kLostReturnsBridged || !(open_to_the_end || open_downwards)) continue;
+      if (run_length <= kLostReturnsBridged ||
+          !(open_downwards || run_length >= kLeastUnexplainedRun))
+        continue;
       std::optional<FanArc> arc;
       std::size_t anchor = 0;
       if (before && after) {

@@ -196,11 +196,13 @@ TEST(LostBeams, ALostBeamCrossesTheFloorWhereItsFanPointed) {
     EXPECT_NEAR(from_after[i].x, floorX(int(i)), 1e-4) << "beam " << i;
 }
 
-TEST(LostBeams, ARunBetweenTwoFloorReturnsOrTooShortIsNoDrop) {
-  // Lost between returns on the floor (whatever its length), or only as many at the line's end
-  // as lost echoes make: echoes lost on a floor, not where it ends.
-  EXPECT_TRUE(crossingsOf(fanOverFloor({20, 21, 22, 23, 24, 25})).empty());
+TEST(LostBeams, AShortRunBetweenTwoFloorReturnsIsNoDrop) {
+  // Lost between returns on the floor, or at the line's end, only as many in a row as lost echoes
+  // make: echoes lost on a floor, not where it ends.
+  EXPECT_TRUE(crossingsOf(fanOverFloor({20, 21, 22, 23, 24, 25, 26, 27, 28})).empty());
   EXPECT_TRUE(crossingsOf(fanOverFloor({0, 1, 2, 3, 4, 5, 6, 7, 8})).empty());
+  // Ten in a row are more than lost echoes make: a pit whose far side was seen, or the floor's end.
+  EXPECT_EQ(crossingsOf(fanOverFloor({20, 21, 22, 23, 24, 25, 26, 27, 28, 29})).size(), 10U);
   EXPECT_EQ(crossingsOf(fanOverFloor({0, 1, 2, 3, 4, 5, 6, 7, 8, 9})).size(), 10U);
   // Followed by a return on a wall: not where the floor ends either.
   Scan wall = fanOverFloor({30, 31, 32, 33});
