@@ -420,8 +420,8 @@ struct Drops {
 Drops dropsWhereLostBeamsCrossed(const MapInputs& inputs, const RobotBox* recorded_box) {
   Drops drops;
   const MapGrid& grid = inputs.grid;
-  std::vector<std::uint8_t> is_drop(inputs.lost_beam_crossings.empty() ? 0 : grid.cells(), 0);
-  for (const LostBeamCrossing& crossing : inputs.lost_beam_crossings) {
+  std::vector<std::uint8_t> is_drop(inputs.floor_crossings.empty() ? 0 : grid.cells(), 0);
+  for (const FloorCrossing& crossing : inputs.floor_crossings) {
     if (recorded_box && recorded_box->contains(crossing.x, crossing.y, 0.0)) continue;
     if (!is_drop[crossing.cell]) {
       is_drop[crossing.cell] = 1;

@@ -74,12 +74,12 @@ RobotPose robotPoseOnMap(const ScanAnalysis& analysis, const RobotParams& robot,
   };
   for (const MapObstacle& o : analysis.inputs.obstacles)
     if (o.height > robot.max_step && o.height < robot.height) addBlocking(o.x, o.y);
-  // Where a beam that came back with nothing went down through the ground's level, the floor ends:
+  // Where a beam went down through the ground's level over unobserved ground, the floor ends:
   // that weighs as a blocking return. Counted as unobserved floor, it let the box of a scanner on
   // a ledge overhang the drop beside it, and the robot's own place, ground seen or not, showed the
   // drop traversable (4-16 false cells: a scanner 0.15-0.45 m from a platform's edge, the
-  // stairwell's side floor in a random sweep; tests/unit/engine/lost_beams_test.cpp).
-  for (const LostBeamCrossing& crossing : analysis.inputs.lost_beam_crossings)
+  // stairwell's side floor in a random sweep; tests/unit/engine/floor_crossings_test.cpp).
+  for (const FloorCrossing& crossing : analysis.inputs.floor_crossings)
     addBlocking(crossing.x, crossing.y);
   const MapGrid& grid = analysis.inputs.grid;
   const std::vector<std::int16_t>& ground_plane = analysis.inputs.ground_plane;

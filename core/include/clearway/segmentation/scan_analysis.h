@@ -69,8 +69,8 @@ struct SweepNeighbours {
   std::vector<Beam> beams;
 };
 
-// Where a beam that came back with nothing went down through the ground's level: no floor there.
-struct LostBeamCrossing {
+// Where a beam went down through the ground's level where no floor was seen: no floor there.
+struct FloorCrossing {
   std::uint32_t cell = 0;
   float x = 0.0F, y = 0.0F;  // map position [m]
 };
@@ -119,9 +119,10 @@ struct MapInputs {
   // unseen (hiddenObstacleSize(), sensor_geometry.h) [m]. The density check compares it with the
   // robot's step (docs/ALGORITHM.md, "Sparse scans never lie").
   std::vector<float> ground_spacing;
-  // Where lost returns' beams went down through the reference ground's level over unobserved
-  // cells: nothing stood there to send them back (lost_beams.h).
-  std::vector<LostBeamCrossing> lost_beam_crossings;
+  // Where beams went down through the reference ground's level over unobserved cells: lost ones
+  // (nothing stood there to send them back) and ones returned from well under it
+  // (floor_crossings.h).
+  std::vector<FloorCrossing> floor_crossings;
   std::vector<MapObstacle> obstacles;
   SweepNeighbours sweep_neighbours;  // empty for multi-beam frames
   std::vector<GroundContact> contacts;

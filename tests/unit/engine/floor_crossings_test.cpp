@@ -1,8 +1,8 @@
-// Beams that came back with nothing (core/src/segmentation/lost_beams.h): a lost return keeps its
-// place in its fan, so its beam's direction is known, and where it went down through the floor's
-// level over unobserved ground, no floor stood there. A RoSi beside a platform's edge with nothing
-// below it: the drop is blocked and named, the robot's guessed place keeps off it, and echoes lost
-// now and then on the floor are no drop.
+// Where beams went down through the floor's level over unobserved ground, no floor stood there
+// (core/src/segmentation/floor_crossings.h). A lost return keeps its place in its fan, so its
+// beam's direction is known: a RoSi beside a platform's edge with nothing below it sees the drop
+// blocked and named, its guessed place keeps off it, and echoes lost now and then on the floor are
+// no drop. A return from under the floor passed its level on the way: a trench's unseen near side.
 
 #include <gtest/gtest.h>
 
@@ -11,9 +11,10 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <tuple>
 #include <vector>
 
-#include "../../../core/src/segmentation/lost_beams.h"
+#include "../../../core/src/segmentation/floor_crossings.h"
 #include "engine_fixtures.h"
 
 namespace clearway {
@@ -64,7 +65,7 @@ TEST(LostBeams, TheRobotsGuessedPlaceKeepsOffADropBesideTheScanner) {
     SCOPED_TRACE(edge_x);
     const test::SimulatedRun run = test::simulateFromOrigin(ledgeScene(edge_x), params);
     ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-    ASSERT_FALSE(run.result.analysis->inputs.lost_beam_crossings.empty());
+    ASSERT_FALSE(run.result.analysis->inputs.floor_crossings.empty());
     EXPECT_EQ(test::evaluateRun(run, params).map.false_traversable_cells, 0U);
     const RobotPose& pose = run.result.map.robot_pose;
     const Eigen::Rotation2Dd turn(pose.yaw);
@@ -122,7 +123,7 @@ TEST(LostBeams, EchoesLostNowAndThenOnTheFloorAreNoDrop) {
     const test::SimulatedRun run =
         test::simulateSavedAndSegment(ledgeScene(6.0), sensor, placement, params);
     ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-    EXPECT_TRUE(run.result.analysis->inputs.lost_beam_crossings.empty());
+    EXPECT_TRUE(run.result.analysis->inputs.floor_crossings.empty());
     EXPECT_EQ(test::evaluateRun(run, params).map.false_traversable_cells, 0U);
   }
 }
@@ -154,8 +155,8 @@ Scan fanOverFloor(const std::vector<int>& lost) {
   return scan;
 }
 
-std::vector<LostBeamCrossing> crossingsOf(const Scan& scan, MapGrid* grid_out = nullptr,
-                                          double sensor_step = 1.0 * kDeg) {
+std::vector<FloorCrossing> crossingsOf(const Scan& scan, MapGrid* grid_out = nullptr,
+                                       double sensor_step = 1.0 * kDeg) {
   SensorGeometry sensor;
   sensor.kind = SensorKind::kRotating2D;
   sensor.along_line_step = sensor_step;
@@ -178,7 +179,7 @@ TEST(LostBeams, ALostBeamCrossesTheFloorWhereItsFanPointed) {
   for (int k = 50; k < 80; ++k)
     lost.push_back(k);
   MapGrid grid;
-  const std::vector<LostBeamCrossing> crossings = crossingsOf(fanOverFloor(lost), &grid);
+  const std::vector<FloorCrossing> crossings = crossingsOf(fanOverFloor(lost), &grid);
   ASSERT_EQ(crossings.size(), 20U);
   for (std::size_t i = 0; i < crossings.size(); ++i) {
     EXPECT_NEAR(crossings[i].x, floorX(50 + int(i)), 1e-4) << "beam " << 50 + i;
@@ -190,7 +191,7 @@ TEST(LostBeams, ALostBeamCrossesTheFloorWhereItsFanPointed) {
   std::vector<int> first_lost;
   for (int k = 0; k < 10; ++k)
     first_lost.push_back(k);
-  const std::vector<LostBeamCrossing> from_after = crossingsOf(fanOverFloor(first_lost));
+  const std::vector<FloorCrossing> from_after = crossingsOf(fanOverFloor(first_lost));
   ASSERT_EQ(from_after.size(), 10U);
   for (std::size_t i = 0; i < from_after.size(); ++i)
     EXPECT_NEAR(from_after[i].x, floorX(int(i)), 1e-4) << "beam " << i;
@@ -232,6 +233,80 @@ TEST(LostBeams, NoDirectionIsGuessedWhereTheReturnsAroundARunDoNotTurnByTheStep)
   // A sensor whose step is not known (0, NaN) gives no direction to check against.
   EXPECT_TRUE(crossingsOf(scan, nullptr, 0.0).empty());
   EXPECT_TRUE(crossingsOf(scan, nullptr, std::numeric_limits<double>::quiet_NaN()).empty());
+}
+
+// Returns from well under the floor: their beams passed the floor's level on the way down.
+
+std::vector<FloorCrossing> crossingsUnderFloorOf(const std::vector<MapObstacle>& obstacles) {
+  Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
+  map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  MapGrid grid;
+  grid.resolution = 0.05;
+  grid.origin = {-3.0, -3.0};
+  grid.width = grid.height = 120;
+  const std::vector<std::int16_t> unobserved(grid.cells(), -1);
+  return detail::crossingsOfReturnsUnderFloor(obstacles, map_from_scanner, grid, unobserved);
+}
+
+MapObstacle obstacleAt(float x, float y, float z) {
+  MapObstacle o;
+  o.x = x;
+  o.y = y;
+  o.z = z;
+  return o;
+}
+
+TEST(ReturnsUnderTheFloor, CrossTheFloorsLevelOnTheirBeam) {
+  // The scanner 1 m up: a return 1 m under the floor 2 m out crossed the floor's level 1 m out.
+  const std::vector<FloorCrossing> crossings =
+      crossingsUnderFloorOf({obstacleAt(2.0F, 0.0F, -1.0F), obstacleAt(0.0F, -1.0F, -1.0F)});
+  ASSERT_EQ(crossings.size(), 2U);
+  EXPECT_NEAR(crossings[0].x, 1.0, 1e-6);
+  EXPECT_NEAR(crossings[0].y, 0.0, 1e-6);
+  EXPECT_NEAR(crossings[1].x, 0.0, 1e-6);
+  EXPECT_NEAR(crossings[1].y, -0.5, 1e-6);
+  // Within the floor's noise and a low step under it, or seen too flat to say where the floor
+  // ended (the reference plane only approximates uneven ground out there): none.
+  EXPECT_TRUE(crossingsUnderFloorOf({obstacleAt(2.0F, 0.0F, -0.15F)}).empty());
+  EXPECT_TRUE(crossingsUnderFloorOf({obstacleAt(5.0F, 0.0F, -0.3F)}).empty());
+}
+
+TEST(ReturnsUnderTheFloor, TheNearSideOfATrenchWhoseFarWallWasSeenIsADrop) {
+  // A trench 2 m deep from x = 1.2 to 2.2 m across the floor: its near wall faces away from the
+  // scanner and is never seen, its far wall is. The beams that met the far wall passed the
+  // floor's level over the trench's near half: those cells were unknown, and are now a drop.
+  sim::Scene scene;
+  scene.name = "trench";
+  for (const auto& [name, low_x, high_x] :
+       {std::tuple{"near_floor", kBackWallX, 1.2}, std::tuple{"far_floor", 2.2, 6.0}}) {
+    sim::Primitive slab;
+    slab.name = name;
+    slab.point_class = PointClass::kGround;
+    slab.center = {(low_x + high_x) / 2, 0.0, -1.0};
+    slab.size = {high_x - low_x, 6.0, 2.0};
+    scene.primitives.push_back(slab);
+  }
+  sim::Primitive wall;
+  wall.name = "back_wall";
+  wall.point_class = PointClass::kWall;
+  wall.center = {kBackWallX - 0.1, 0.0, 1.5};
+  wall.size = {0.2, 6.0, 3.0};
+  scene.primitives.push_back(wall);
+  const SegmentationParams params = smallRobot();
+  const test::SimulatedRun run = test::simulateFromOrigin(scene, params);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  EXPECT_EQ(test::evaluateRun(run, params).map.false_traversable_cells, 0U);
+  const TraversabilityMap& map = run.result.map;
+  const Eigen::Isometry3d map_from_world = worldFromMap(run).inverse();
+  for (const double x : {1.25, 1.35})
+    for (const double y : {-0.5, 0.0, 0.5}) {
+      SCOPED_TRACE(testing::Message() << x << ", " << y);
+      const Eigen::Vector3d m = map_from_world * Eigen::Vector3d(x, y, 0.0);
+      const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
+      ASSERT_TRUE(map.grid.inside(cell.x(), cell.y()));
+      EXPECT_EQ(map.label(cell.x(), cell.y()), CellLabel::kImpassable);
+      EXPECT_EQ(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]), CellReason::kTooSteep);
+    }
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-#include "lost_beams.h"
+#include "floor_crossings.h"
 
 #include <cmath>
 #include <numbers>
@@ -88,11 +88,11 @@ std::optional<std::size_t> baseFor(const Scan& scan, const ScanLine& line, std::
 
 }  // namespace
 
-std::vector<LostBeamCrossing> lostBeamCrossings(const Scan& scan, const SensorGeometry& sensor,
-                                                const Eigen::Isometry3d& map_from_scanner,
-                                                const MapGrid& grid,
-                                                const std::vector<std::int16_t>& ground_plane) {
-  std::vector<LostBeamCrossing> crossings;
+std::vector<FloorCrossing> lostBeamCrossings(const Scan& scan, const SensorGeometry& sensor,
+                                             const Eigen::Isometry3d& map_from_scanner,
+                                             const MapGrid& grid,
+                                             const std::vector<std::int16_t>& ground_plane) {
+  std::vector<FloorCrossing> crossings;
   const double scanner_z = map_from_scanner.translation().z();
   // (Written so that a NaN step or height gives no crossing either.)
   if (sensor.kind != SensorKind::kRotating2D || !(sensor.along_line_step > 0.0) ||
@@ -157,6 +157,27 @@ std::vector<LostBeamCrossing> lostBeamCrossings(const Scan& scan, const SensorGe
       for (std::size_t k = run_first; k <= run_last; ++k)
         markCrossing(*arc, k > anchor ? double(k - anchor) : double(anchor - k));
     }
+  }
+  return crossings;
+}
+
+std::vector<FloorCrossing> crossingsOfReturnsUnderFloor(
+    const std::vector<MapObstacle>& obstacles, const Eigen::Isometry3d& map_from_scanner,
+    const MapGrid& grid, const std::vector<std::int16_t>& ground_plane) {
+  std::vector<FloorCrossing> crossings;
+  const Eigen::Vector3d scanner = map_from_scanner.translation();
+  if (!(scanner.z() > 0.0)) return crossings;
+  const double least_descent = std::sin(kSteepestUnreturnedDeg * std::numbers::pi / 180.0);
+  for (const MapObstacle& o : obstacles) {
+    if (o.z >= -kUnderFloor) continue;
+    const Eigen::Vector3d beam = (Eigen::Vector3d(o.x, o.y, o.z) - scanner).normalized();
+    if (beam.z() > -least_descent) continue;
+    const Eigen::Vector2d crossing = scanner.head<2>() + beam.head<2>() * (scanner.z() / -beam.z());
+    const Eigen::Vector2i cell = grid.cellOf(crossing.x(), crossing.y());
+    if (!grid.inside(cell.x(), cell.y())) continue;
+    const std::size_t index = grid.index(cell.x(), cell.y());
+    if (ground_plane[index] < 0)
+      crossings.push_back({std::uint32_t(index), float(crossing.x()), float(crossing.y())});
   }
   return crossings;
 }
