@@ -11,7 +11,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <tuple>
+#include <string>
 #include <vector>
 
 #include "../../../core/src/segmentation/floor_crossings.h"
@@ -24,17 +24,21 @@ constexpr double kDeg = std::numbers::pi / 180.0;
 
 constexpr double kBackWallX = -4.75;  // the wall's face [m]
 
-// A platform whose top is the floor (z = 0) from a wall at its back to x = edge_x, and nothing
-// beyond the edge: beams over it come back with nothing.
-sim::Scene ledgeScene(double edge_x) {
+// A slab 6 m wide from x = low_x to high_x whose top is the floor (z = 0).
+sim::Primitive floorSlab(const std::string& name, double low_x, double high_x, double thickness) {
+  sim::Primitive slab;
+  slab.name = name;
+  slab.point_class = PointClass::kGround;
+  slab.center = {(low_x + high_x) / 2, 0.0, -thickness / 2};
+  slab.size = {high_x - low_x, 6.0, thickness};
+  return slab;
+}
+
+// A scene of floor slabs, a wall at their back.
+sim::Scene sceneOf(const std::string& name, const std::vector<sim::Primitive>& slabs) {
   sim::Scene scene;
-  scene.name = "ledge";
-  sim::Primitive platform;
-  platform.name = "platform";
-  platform.point_class = PointClass::kGround;
-  platform.center = {(edge_x + kBackWallX) / 2, 0.0, -0.05};
-  platform.size = {edge_x - kBackWallX, 6.0, 0.1};
-  scene.primitives.push_back(platform);
+  scene.name = name;
+  scene.primitives = slabs;
   sim::Primitive wall;
   wall.name = "back_wall";
   wall.point_class = PointClass::kWall;
@@ -42,6 +46,12 @@ sim::Scene ledgeScene(double edge_x) {
   wall.size = {0.2, 6.0, 3.0};
   scene.primitives.push_back(wall);
   return scene;
+}
+
+// A platform whose top is the floor from the back wall to x = edge_x, and nothing beyond the edge:
+// beams over it come back with nothing.
+sim::Scene ledgeScene(double edge_x) {
+  return sceneOf("ledge", {floorSlab("platform", kBackWallX, edge_x, 0.1)});
 }
 
 SegmentationParams smallRobot() {
@@ -54,6 +64,22 @@ SegmentationParams smallRobot() {
 Eigen::Isometry3d worldFromMap(const test::SimulatedRun& run) {
   return run.simulated.truth.placement.worldFromScanner() *
          run.result.analysis->map_from_scanner.inverse();
+}
+
+// The map shows a drop at the world positions (x, y, 0): impassable, "too steep".
+void expectDropsAt(const test::SimulatedRun& run, const std::vector<double>& xs,
+                   const std::vector<double>& ys) {
+  const TraversabilityMap& map = run.result.map;
+  const Eigen::Isometry3d map_from_world = worldFromMap(run).inverse();
+  for (const double x : xs)
+    for (const double y : ys) {
+      SCOPED_TRACE(testing::Message() << x << ", " << y);
+      const Eigen::Vector3d m = map_from_world * Eigen::Vector3d(x, y, 0.0);
+      const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
+      ASSERT_TRUE(map.grid.inside(cell.x(), cell.y()));
+      EXPECT_EQ(map.label(cell.x(), cell.y()), CellLabel::kImpassable);
+      EXPECT_EQ(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]), CellReason::kTooSteep);
+    }
 }
 
 TEST(LostBeams, TheRobotsGuessedPlaceKeepsOffADropBesideTheScanner) {
@@ -89,18 +115,8 @@ TEST(LostBeams, ADropIsBlockedAndNamedAsOne) {
   const SegmentationParams params = smallRobot();
   const test::SimulatedRun run = test::simulateFromOrigin(ledgeScene(edge_x), params);
   ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-  const TraversabilityMap& map = run.result.map;
-  const Eigen::Isometry3d map_from_world = worldFromMap(run).inverse();
   // Within the 20 deg of the scanner's foot where a floor sends a beam back (1 m up: 2.7 m).
-  for (const double x : {edge_x + 0.2, edge_x + 0.8, edge_x + 1.5})
-    for (const double y : {-0.8, 0.0, 0.8}) {
-      SCOPED_TRACE(testing::Message() << x << ", " << y);
-      const Eigen::Vector3d m = map_from_world * Eigen::Vector3d(x, y, 0.0);
-      const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
-      ASSERT_TRUE(map.grid.inside(cell.x(), cell.y()));
-      EXPECT_EQ(map.label(cell.x(), cell.y()), CellLabel::kImpassable);
-      EXPECT_EQ(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]), CellReason::kTooSteep);
-    }
+  expectDropsAt(run, {edge_x + 0.2, edge_x + 0.8, edge_x + 1.5}, {-0.8, 0.0, 0.8});
 }
 
 TEST(LostBeams, EchoesLostNowAndThenOnTheFloorAreNoDrop) {
@@ -155,21 +171,32 @@ Scan fanOverFloor(const std::vector<int>& lost) {
   return scan;
 }
 
+// The hand-made scans' scanner 1 m above the map's origin, over a 6 x 6 m grid of 5 cm cells where
+// no ground was seen.
+Eigen::Isometry3d scannerOneMetreUp() {
+  Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
+  map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
+  return map_from_scanner;
+}
+
+MapGrid sixMetresSquare() {
+  MapGrid grid;
+  grid.resolution = 0.05;
+  grid.origin = {-3.0, -3.0};
+  grid.width = grid.height = 120;
+  return grid;
+}
+
 std::vector<FloorCrossing> crossingsOf(const Scan& scan, MapGrid* grid_out = nullptr,
                                        double sensor_step = 1.0 * kDeg) {
   SensorGeometry sensor;
   sensor.kind = SensorKind::kRotating2D;
   sensor.along_line_step = sensor_step;
   sensor.lines = 1;
-  Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
-  map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
-  MapGrid grid;
-  grid.resolution = 0.05;
-  grid.origin = {-3.0, -3.0};
-  grid.width = grid.height = 120;
+  const MapGrid grid = sixMetresSquare();
   if (grid_out) *grid_out = grid;
   const std::vector<std::int16_t> unobserved(grid.cells(), -1);
-  return detail::lostBeamCrossings(scan, sensor, map_from_scanner, grid, unobserved);
+  return detail::lostBeamCrossings(scan, sensor, scannerOneMetreUp(), grid, unobserved);
 }
 
 TEST(LostBeams, ALostBeamCrossesTheFloorWhereItsFanPointed) {
@@ -238,14 +265,9 @@ TEST(LostBeams, NoDirectionIsGuessedWhereTheReturnsAroundARunDoNotTurnByTheStep)
 // Returns from well under the floor: their beams passed the floor's level on the way down.
 
 std::vector<FloorCrossing> crossingsUnderFloorOf(const std::vector<MapObstacle>& obstacles) {
-  Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
-  map_from_scanner.translation() = Eigen::Vector3d(0.0, 0.0, 1.0);
-  MapGrid grid;
-  grid.resolution = 0.05;
-  grid.origin = {-3.0, -3.0};
-  grid.width = grid.height = 120;
+  const MapGrid grid = sixMetresSquare();
   const std::vector<std::int16_t> unobserved(grid.cells(), -1);
-  return detail::crossingsOfReturnsUnderFloor(obstacles, map_from_scanner, grid, unobserved);
+  return detail::crossingsOfReturnsUnderFloor(obstacles, scannerOneMetreUp(), grid, unobserved);
 }
 
 MapObstacle obstacleAt(float x, float y, float z) {
@@ -275,38 +297,13 @@ TEST(ReturnsUnderTheFloor, TheNearSideOfATrenchWhoseFarWallWasSeenIsADrop) {
   // A trench 2 m deep from x = 1.2 to 2.2 m across the floor: its near wall faces away from the
   // scanner and is never seen, its far wall is. The beams that met the far wall passed the
   // floor's level over the trench's near half: those cells were unknown, and are now a drop.
-  sim::Scene scene;
-  scene.name = "trench";
-  for (const auto& [name, low_x, high_x] :
-       {std::tuple{"near_floor", kBackWallX, 1.2}, std::tuple{"far_floor", 2.2, 6.0}}) {
-    sim::Primitive slab;
-    slab.name = name;
-    slab.point_class = PointClass::kGround;
-    slab.center = {(low_x + high_x) / 2, 0.0, -1.0};
-    slab.size = {high_x - low_x, 6.0, 2.0};
-    scene.primitives.push_back(slab);
-  }
-  sim::Primitive wall;
-  wall.name = "back_wall";
-  wall.point_class = PointClass::kWall;
-  wall.center = {kBackWallX - 0.1, 0.0, 1.5};
-  wall.size = {0.2, 6.0, 3.0};
-  scene.primitives.push_back(wall);
+  const sim::Scene scene = sceneOf("trench", {floorSlab("near_floor", kBackWallX, 1.2, 2.0),
+                                              floorSlab("far_floor", 2.2, 6.0, 2.0)});
   const SegmentationParams params = smallRobot();
   const test::SimulatedRun run = test::simulateFromOrigin(scene, params);
   ASSERT_TRUE(run.result.trusted()) << run.result.reason;
   EXPECT_EQ(test::evaluateRun(run, params).map.false_traversable_cells, 0U);
-  const TraversabilityMap& map = run.result.map;
-  const Eigen::Isometry3d map_from_world = worldFromMap(run).inverse();
-  for (const double x : {1.25, 1.35})
-    for (const double y : {-0.5, 0.0, 0.5}) {
-      SCOPED_TRACE(testing::Message() << x << ", " << y);
-      const Eigen::Vector3d m = map_from_world * Eigen::Vector3d(x, y, 0.0);
-      const Eigen::Vector2i cell = map.grid.cellOf(m.x(), m.y());
-      ASSERT_TRUE(map.grid.inside(cell.x(), cell.y()));
-      EXPECT_EQ(map.label(cell.x(), cell.y()), CellLabel::kImpassable);
-      EXPECT_EQ(CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]), CellReason::kTooSteep);
-    }
+  expectDropsAt(run, {1.25, 1.35}, {-0.5, 0.0, 0.5});
 }
 
 }  // namespace
