@@ -408,16 +408,16 @@ void markSteps(const ScanAnalysis& analysis, const RobotParams& robot, CellClass
     }
 }
 
-// Where lost returns' beams went down through the ground's level the floor ends: those cells are
-// drops. Their blocking positions (with their cells) are where the beams crossed and each cell's
-// centre (an unobserved cell blocks the exact test by its centre), so that a box's edge keeps off a
-// drop's near side too. None inside `recorded_box`, the robot's recorded place: beams lost on its
-// own dark body.
+// Where beams went down through the ground's level over unobserved ground the floor ends: those
+// cells are drops (floor_crossings.h). Their blocking positions (with their cells) are where the
+// beams crossed and each cell's centre (an unobserved cell blocks the exact test by its centre), so
+// that a box's edge keeps off a drop's near side too. None inside `recorded_box`, the robot's
+// recorded place: a beam lost there met its own dark body.
 struct Drops {
   std::vector<Eigen::Vector2f> positions;
   std::vector<std::uint32_t> cells;
 };
-Drops dropsWhereLostBeamsCrossed(const MapInputs& inputs, const RobotBox* recorded_box) {
+Drops dropsWhereBeamsCrossedTheFloor(const MapInputs& inputs, const RobotBox* recorded_box) {
   Drops drops;
   const MapGrid& grid = inputs.grid;
   std::vector<std::uint8_t> is_drop(inputs.floor_crossings.empty() ? 0 : grid.cells(), 0);
@@ -518,7 +518,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
       classes.state[o.cell] = CellState::kLowObstacle;
     }
   }
-  const Drops drops = dropsWhereLostBeamsCrossed(
+  const Drops drops = dropsWhereBeamsCrossedTheFloor(
       inputs, own_place && analysis.robot_from_scanner ? &own_box : nullptr);
   for (const std::uint32_t cell : drops.cells) {
     ++blocking_count[cell];
