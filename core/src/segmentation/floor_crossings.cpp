@@ -104,7 +104,7 @@ std::vector<FloorCrossing> lostBeamCrossings(const Scan& scan, const SensorGeome
   // Where the beam `steps` along `arc` meets the ground level, if it goes down to it.
   auto markCrossing = [&](const FanArc& arc, double steps) {
     const Eigen::Vector3d beam = map_from_scanner_rotation * arc.beam(steps);
-    if (beam.z() > -least_descent) return;
+    if (!(beam.z() <= -least_descent)) return;  // (a NaN, too)
     const Eigen::Vector2d crossing = foot + beam.head<2>() * (scanner_z / -beam.z());
     const Eigen::Vector2i cell = grid.cellOf(crossing.x(), crossing.y());
     if (!grid.inside(cell.x(), cell.y())) return;
@@ -169,9 +169,9 @@ std::vector<FloorCrossing> crossingsOfReturnsUnderFloor(
   if (!(scanner.z() > 0.0)) return crossings;
   const double least_descent = std::sin(kSteepestUnreturnedDeg * std::numbers::pi / 180.0);
   for (const MapObstacle& o : obstacles) {
-    if (o.z >= -kUnderFloor) continue;
+    if (!(o.z < -kUnderFloor)) continue;
     const Eigen::Vector3d beam = (Eigen::Vector3d(o.x, o.y, o.z) - scanner).normalized();
-    if (beam.z() > -least_descent) continue;
+    if (!(beam.z() <= -least_descent)) continue;  // (a NaN, too)
     const Eigen::Vector2d crossing = scanner.head<2>() + beam.head<2>() * (scanner.z() / -beam.z());
     const Eigen::Vector2i cell = grid.cellOf(crossing.x(), crossing.y());
     if (!grid.inside(cell.x(), cell.y())) continue;
