@@ -182,4 +182,17 @@ std::vector<FloorCrossing> crossingsOfReturnsUnderFloor(
   return crossings;
 }
 
+std::vector<FloorCrossing> floorCrossings(const Scan& scan, const SensorGeometry& sensor,
+                                          const Eigen::Isometry3d& map_from_scanner,
+                                          const MapGrid& grid,
+                                          const std::vector<std::int16_t>& ground_plane,
+                                          const std::vector<MapObstacle>& obstacles) {
+  std::vector<FloorCrossing> crossings =
+      lostBeamCrossings(scan, sensor, map_from_scanner, grid, ground_plane);
+  const std::vector<FloorCrossing> under_floor =
+      crossingsOfReturnsUnderFloor(obstacles, map_from_scanner, grid, ground_plane);
+  crossings.insert(crossings.end(), under_floor.begin(), under_floor.end());
+  return crossings;
+}
+
 }  // namespace clearway::detail

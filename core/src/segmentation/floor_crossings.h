@@ -24,6 +24,14 @@
 
 namespace clearway::detail {
 
+// Every crossing of the scan: its lost beams' (lostBeamCrossings), then its returns' from under the
+// floor among `obstacles` (crossingsOfReturnsUnderFloor).
+std::vector<FloorCrossing> floorCrossings(const Scan& scan, const SensorGeometry& sensor,
+                                          const Eigen::Isometry3d& map_from_scanner,
+                                          const MapGrid& grid,
+                                          const std::vector<std::int16_t>& ground_plane,
+                                          const std::vector<MapObstacle>& obstacles);
+
 // Where a lost return's beam went down through the map's z = 0 (the reference ground's level) over
 // an unobserved cell (ground_plane < 0), at least kSteepestUnreturnedDeg below the horizontal: a
 // floor met that steeply sends the beam back. Empty for a sensor that is not a rotating 2D scanner

@@ -615,8 +615,6 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   markTriangleCells(inputs, ground_of, limit, cell_of, threads);
   markSingleHoles(inputs);
   detail::markPlaneEdges(inputs, limit.plane_heights, analysis.planes.planes);
-  inputs.floor_crossings = detail::lostBeamCrossings(scan, analysis.sensor, map_from_scanner,
-                                                     inputs.grid, inputs.ground_plane);
 
   inputs.ground_spacing =
       groundSpacing(inputs, analysis, stepsApartAlongLines(bridged, cell_of, inputs.grid), threads);
@@ -626,12 +624,8 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   inputs.obstacles =
       measureObstacles(analysis, inputs, partners.points(), mapped.positions, cell_of, threads);
   inputs.contacts = detail::groundContacts(inputs);
-  // Where beams went down through the floor's level over unobserved cells: lost ones, then those
-  // returned from under it.
-  const std::vector<FloorCrossing> under_floor = detail::crossingsOfReturnsUnderFloor(
-      inputs.obstacles, map_from_scanner, inputs.grid, inputs.ground_plane);
-  inputs.floor_crossings.insert(inputs.floor_crossings.end(), under_floor.begin(),
-                                under_floor.end());
+  inputs.floor_crossings = detail::floorCrossings(
+      scan, analysis.sensor, map_from_scanner, inputs.grid, inputs.ground_plane, inputs.obstacles);
   return inputs;
 }
 

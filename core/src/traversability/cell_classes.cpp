@@ -522,7 +522,6 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
       inputs, own_place && analysis.robot_from_scanner ? &own_box : nullptr);
   for (const std::uint32_t cell : drops.cells) {
     ++blocking_count[cell];
-    lowest_block[cell] = 0.0F;
     classes.reason[cell] = CellReason::kTooSteep;
   }
   for (std::size_t cell = 0; cell < cells; ++cell) {
