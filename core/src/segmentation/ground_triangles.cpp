@@ -9,6 +9,7 @@
 
 #include "clearway/segmentation/scan_analysis.h"
 #include "parallel.h"
+#include "release_memory.h"
 
 namespace clearway::detail {
 
@@ -261,7 +262,7 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   triangles.reserve(total);
   for (auto& part : parts) {
     triangles.insert(triangles.end(), part.begin(), part.end());
-    part = {};  // freed as it is copied: the mesh is the largest thing a dense scan's map keeps
+    releaseMemory(part);  // as it is copied: the mesh is the largest thing a dense scan's map keeps
   }
   return triangles;
 }

@@ -19,6 +19,7 @@
 #include "ground_triangles.h"
 #include "parallel.h"
 #include "plane_borders.h"
+#include "release_memory.h"
 
 namespace clearway {
 namespace {
@@ -479,9 +480,7 @@ double groundBeneathHidden(const ScanAnalysis& analysis, const Eigen::Isometry3d
 // scan's worth of obstacles).
 std::vector<MapObstacle> measureObstacles(const ScanAnalysis& analysis, const MapInputs& inputs,
                                           const std::vector<std::uint32_t>& points,
-                                          const std::vector<Eigen::Vector3f>& mapped,
-                                          const std::vector<Eigen::Vector2i>& cell_of,
-                                          int threads) {
+                                          const std::vector<Eigen::Vector3f>& mapped, int threads) {
   const MapGrid& grid = inputs.grid;
   const Eigen::Isometry3d scanner_from_map = analysis.map_from_scanner.inverse();
   const std::vector<float> ground_around = lowestGroundAround(inputs);
@@ -491,7 +490,7 @@ std::vector<MapObstacle> measureObstacles(const ScanAnalysis& analysis, const Ma
                            for (std::size_t e = begin; e < end; ++e) {
                              const std::size_t i = points[e];
                              const Eigen::Vector3d m = mapped[i].cast<double>();
-                             const Eigen::Vector2i& cell = cell_of[i];
+                             const Eigen::Vector2i cell = grid.cellOf(mapped[i].x(), mapped[i].y());
                              const std::size_t index = grid.index(cell.x(), cell.y());
                              double ground = 0.0;
                              if (inputs.ground_plane[index] >= 0)
@@ -550,7 +549,7 @@ SweepNeighbours sweepNeighbours(const Scan& scan, const detail::SweepPartners& p
   for (std::size_t chunk = 0; chunk < beams.size(); ++chunk) {
     const auto offset = std::uint32_t(neighbours.beams.size());
     neighbours.beams.insert(neighbours.beams.end(), beams[chunk].begin(), beams[chunk].end());
-    beams[chunk] = {};
+    detail::releaseMemory(beams[chunk]);
     if (offset == 0) continue;
     const std::size_t begin = obstacles * chunk / beams.size(),
                       end = obstacles * (chunk + 1) / beams.size();
@@ -577,7 +576,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   inputs.ground_plane.assign(inputs.grid.cells(), -1);
   inputs.ground_height.assign(inputs.grid.cells(), 0.0F);
   inputs.seam_step.assign(inputs.grid.cells(), 0.0F);
-  const std::vector<Eigen::Vector2i> cell_of =
+  std::vector<Eigen::Vector2i> cell_of =
       cellsOfPoints(scan, mapped.positions, inputs.grid, threads);
 
   detail::EdgeLimit limit{mapped.positions,
@@ -613,16 +612,21 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
       meshOf(detail::groundTriangles(scan, pairing, ground_of, limit, threads, &partners, &bridged),
              cell_of, inputs.grid, threads);
   markTriangleCells(inputs, ground_of, limit, cell_of, threads);
+  // Per-point buffers are freed as soon as they are done with: the run's memory peaks as the
+  // obstacles, the largest part of a dense scan's map inputs, are made last.
+  detail::releaseMemory(ground_of);
   markSingleHoles(inputs);
   detail::markPlaneEdges(inputs, limit.plane_heights, analysis.planes.planes);
 
   inputs.ground_spacing =
       groundSpacing(inputs, analysis, stepsApartAlongLines(bridged, cell_of, inputs.grid), threads);
+  detail::releaseMemory(bridged);
+  detail::releaseMemory(cell_of);  // measureObstacles finds its points' cells again
   inputs.sweep_neighbours = sweepNeighbours(scan, partners, mapped.positions,
                                             map_from_scanner.translation().cast<float>(), threads);
-  partners.partners = {};  // freed before the obstacles are made
+  detail::releaseMemory(partners.partners);  // before the obstacles are made
   inputs.obstacles =
-      measureObstacles(analysis, inputs, partners.points(), mapped.positions, cell_of, threads);
+      measureObstacles(analysis, inputs, partners.points(), mapped.positions, threads);
   inputs.contacts = detail::groundContacts(inputs);
   inputs.floor_crossings = detail::floorCrossings(
       scan, analysis.sensor, map_from_scanner, inputs.grid, inputs.ground_plane, inputs.obstacles);
