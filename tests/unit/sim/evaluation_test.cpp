@@ -233,5 +233,30 @@ TEST(RobotFit, StepsAndLowObstaclesStopTheRobot) {
   EXPECT_GT(*ground, 0.1);
 }
 
+TEST(RobotFit, APipeStopsTheRobotWhereItHangsLowerThanTheRobotsTopNotWhereItsBoxDoes) {
+  // A pipe along y, its underside 1 m above the floor; the robot's top at 1.02 m meets it within
+  // 7.5 cm of its lowest line. The pipe's box reaches down to 1 m across its whole 0.3 m width.
+  sim::Scene scene;
+  sim::Primitive floor;
+  floor.point_class = PointClass::kGround;
+  floor.center = {0.0, 0.0, -0.05};
+  floor.size = {10.0, 10.0, 0.1};
+  sim::Primitive pipe;
+  pipe.shape = sim::Shape::kCylinder;
+  pipe.center = {0.0, 0.0, 1.15};
+  pipe.size = {0.3, 0.3, 10.0};
+  pipe.roll_deg = 90.0;
+  scene.primitives = {floor, pipe};
+  const RobotFit fit(scene);
+  const sim::RobotBox robot{0.6, 1.0, 1.02, 0.1};
+  // Length along x: the box's front edge 10 cm short of the pipe's axis, where the pipe's surface
+  // is 1.8 cm above the robot's top; then 5 cm short, where it is 1.1 cm below it.
+  EXPECT_TRUE(fit.fits(robot, {-0.60, 0.0, 0.0}, 0.0));
+  EXPECT_FALSE(fit.fits(robot, {-0.55, 0.0, 0.0}, 0.0));
+  // Under the pipe across its axis, and clear of it beside it.
+  EXPECT_FALSE(fit.fits(robot, {0.0, 0.0, 0.0}, 0.0));
+  EXPECT_TRUE(fit.fits(robot, {-0.8, 0.0, 0.0}, 0.0));
+}
+
 }  // namespace
 }  // namespace clearway::eval
