@@ -68,6 +68,8 @@ constexpr double kLongestCast = 100.0;
 // (at most 60 deg from vertical; steeper is a wall's side, not a floor).
 constexpr double kMinGroundNormalUp = 0.5;
 
+// Where two walkable surfaces meet between two ground samples is found to this [m].
+constexpr double kStepSearchPrecision = 0.002;
 // Walkable surfaces tilted against each other (the outdoor scene's paving slabs) leave a V-shaped
 // crack a few millimetres wide at their joint, which a wheel rolls over. A vertical probe that
 // falls into one (it misses, or meets a slab's side face) takes the higher of the surfaces this
@@ -79,21 +81,63 @@ constexpr double kCrackWidth = 0.01;
 RobotFit::RobotFit(const sim::Scene& scene)
     : scene_(scene), walkable_(walkableOnly(scene)), walkable_caster_(walkable_) {}
 
-std::optional<double> RobotFit::groundHeight(double x, double y, double from_z) const {
-  auto probe = [&](double px, double py) -> std::optional<double> {
+std::optional<RobotFit::GroundSample> RobotFit::groundSample(double x, double y,
+                                                             double from_z) const {
+  auto probe = [&](double px, double py) -> std::optional<GroundSample> {
     const auto hit =
         walkable_caster_.cast({px, py, from_z}, -Eigen::Vector3d::UnitZ(), kLongestCast);
     if (!hit || hit->normal.z() < kMinGroundNormalUp) return std::nullopt;
-    return from_z - hit->distance;
+    return GroundSample{from_z - hit->distance, hit->primitive, hit->face, hit->normal};
   };
-  if (const auto height = probe(x, y)) return height;
+  if (const auto sample = probe(x, y)) return sample;
   // Fell into a crack: the higher of the surfaces either side carries the robot.
-  std::optional<double> carried;
+  std::optional<GroundSample> carried;
   for (const auto& [dx, dy] : {std::pair{kCrackWidth, 0.0}, std::pair{-kCrackWidth, 0.0},
                                std::pair{0.0, kCrackWidth}, std::pair{0.0, -kCrackWidth}})
-    if (const auto height = probe(x + dx, y + dy); height && (!carried || *height > *carried))
-      carried = height;
+    if (const auto sample = probe(x + dx, y + dy);
+        sample && (!carried || sample->height > carried->height))
+      carried = sample;
   return carried;
+}
+
+std::optional<double> RobotFit::groundHeight(double x, double y, double from_z) const {
+  const auto sample = groundSample(x, y, from_z);
+  if (!sample) return std::nullopt;
+  return sample->height;
+}
+
+std::optional<double> RobotFit::stepBetween(const Eigen::Vector2d& p, const GroundSample& at_p,
+                                            const Eigen::Vector2d& q, const GroundSample& at_q,
+                                            double from_z) const {
+  if (at_p.primitive == at_q.primitive && at_p.face == at_q.face) return 0.0;  // one surface
+  // Where the surfaces meet, found by halving the stretch between the samples down to
+  // kStepSearchPrecision; then each surface's plane height there.
+  auto sameSurface = [](const GroundSample& a, const GroundSample& b) {
+    return a.primitive == b.primitive && a.face == b.face;
+  };
+  Eigen::Vector2d near_p = p, near_q = q;
+  GroundSample beyond_meet = at_q;
+  while ((near_q - near_p).norm() > kStepSearchPrecision) {
+    const Eigen::Vector2d middle = (near_p + near_q) / 2;
+    const auto sample = groundSample(middle.x(), middle.y(), from_z);
+    if (!sample) return std::nullopt;
+    if (sameSurface(*sample, at_p)) {
+      near_p = middle;
+    } else {
+      near_q = middle;
+      beyond_meet = *sample;
+    }
+  }
+  // A third surface between the two (a tread narrower than the samples' spacing): the samples'
+  // own heights apart, as a whole.
+  if (!sameSurface(beyond_meet, at_q)) return std::abs(at_p.height - at_q.height);
+  const Eigen::Vector2d meet = (near_p + near_q) / 2;
+  auto heightAt = [&](const Eigen::Vector2d& at, const GroundSample& sample) {
+    const Eigen::Vector2d run = meet - at;
+    return sample.height -
+           (sample.normal.x() * run.x() + sample.normal.y() * run.y()) / sample.normal.z();
+  };
+  return std::abs(heightAt(p, at_p) - heightAt(q, at_q));
 }
 
 bool RobotFit::fits(const sim::RobotBox& robot, const Eigen::Vector3d& center, double yaw) const {
@@ -102,29 +146,31 @@ bool RobotFit::fits(const sim::RobotBox& robot, const Eigen::Vector3d& center, d
   const double from_z = center.z() + kCastFromAbove;
   const auto center_height = groundHeight(center.x(), center.y(), from_z);
   if (!center_height) return false;
-
   // Ground under the whole footprint, with no step higher than the robot can take.
   const int n_along = std::max(2, int(std::ceil(robot.length / kSampleSpacing)) + 1);
   const int n_across = std::max(2, int(std::ceil(robot.width / kSampleSpacing)) + 1);
-  std::vector<double> heights(std::size_t(n_along * n_across));
+  std::vector<Eigen::Vector2d> places(std::size_t(n_along * n_across));
+  std::vector<GroundSample> samples(places.size());
   double highest = *center_height;
+  auto stepsTooHigh = [&](std::size_t a, std::size_t b) {
+    const auto step = stepBetween(places[a], samples[a], places[b], samples[b], from_z);
+    return !step || *step > robot.max_step;
+  };
   for (int i = 0; i < n_along; ++i) {
     for (int j = 0; j < n_across; ++j) {
       const double u = -robot.length / 2 + robot.length * i / (n_along - 1);
       const double v = -robot.width / 2 + robot.width * j / (n_across - 1);
       const Eigen::Vector3d p = center + u * along + v * across;
-      const auto height = groundHeight(p.x(), p.y(), from_z);
-      if (!height) return false;
-      heights[std::size_t(i * n_across + j)] = *height;
-      highest = std::max(highest, *height);
-      if (i > 0 &&
-          std::abs(*height - heights[std::size_t((i - 1) * n_across + j)]) > robot.max_step)
-        return false;
-      if (j > 0 && std::abs(*height - heights[std::size_t(i * n_across + j - 1)]) > robot.max_step)
-        return false;
+      const auto sample = groundSample(p.x(), p.y(), from_z);
+      if (!sample) return false;
+      const auto index = std::size_t(i * n_across + j);
+      places[index] = p.head<2>();
+      samples[index] = *sample;
+      highest = std::max(highest, sample->height);
+      if (i > 0 && stepsTooHigh(std::size_t((i - 1) * n_across + j), index)) return false;
+      if (j > 0 && stepsTooHigh(index - 1, index)) return false;
     }
   }
-
   // The body, from the step height above the highest ground sample to the robot's height.
   OrientedBox body;
   const double bottom = highest + robot.max_step;

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 
 #include "clearway/eval/evaluation.h"
 #include "clearway/eval/robot_fit.h"
@@ -256,6 +258,47 @@ TEST(RobotFit, APipeStopsTheRobotWhereItHangsLowerThanTheRobotsTopNotWhereItsBox
   // Under the pipe across its axis, and clear of it beside it.
   EXPECT_FALSE(fit.fits(robot, {0.0, 0.0, 0.0}, 0.0));
   EXPECT_TRUE(fit.fits(robot, {-0.8, 0.0, 0.0}, 0.0));
+}
+
+// Flat ground at height 0 for x < 0, and for x > 0 a slab pitched `pitch_deg` (negative: rising
+// with x) whose top is at `height_at_edge` where the flat ground ends. The slab runs on under the
+// flat ground, which hides it there.
+sim::Scene flatThenPitched(double pitch_deg, double height_at_edge) {
+  sim::Primitive flat;
+  flat.point_class = PointClass::kGround;
+  flat.center = {-1.0, 0.0, -0.1};
+  flat.size = {2.0, 4.0, 0.2};
+  sim::Primitive pitched = flat;
+  pitched.pitch_deg = pitch_deg;
+  pitched.size = {4.0, 4.0, 0.2};
+  // A turned box's top, over its centre, lies half its thickness / cos(pitch) above the centre.
+  const double half_thickness_up = 0.1 / std::cos(pitch_deg * std::numbers::pi / 180.0);
+  pitched.center = {0.0, 0.0, height_at_edge - half_thickness_up};
+  sim::Scene scene;
+  scene.primitives = {flat, pitched};
+  return scene;
+}
+
+TEST(RobotFit, AStepIsWhereTwoSurfacesMeetNotWhatTheGroundRisesBetweenSamples) {
+  // Samples 0.15 m apart along a 0.6 m robot centred at x = 0.075: one pair straddles x = 0.
+  const Eigen::Vector3d straddling{0.075, 0.0, 0.0};
+  const sim::RobotBox robot{0.6, 0.6, 1.0, 0.05};
+  {
+    // A 25 deg ramp from the floor: its samples rise 7 cm apart, and it has no step.
+    const sim::Scene ramp = flatThenPitched(-25.0, 0.0);
+    const RobotFit fit(ramp);
+    EXPECT_TRUE(fit.fits(robot, straddling, 0.0));
+    EXPECT_TRUE(fit.fits(robot, {0.5, 0.0, 0.2}, 0.0)) << "on the ramp";
+  }
+  {
+    // A 6 cm step down to a slab rising 10 deg away from it: the samples either side are 4.7 cm
+    // apart, the step 6 cm.
+    const sim::Scene slabs = flatThenPitched(-10.0, -0.06);
+    const RobotFit fit(slabs);
+    EXPECT_FALSE(fit.fits(robot, straddling, 0.0));
+    EXPECT_TRUE(fit.fits({0.6, 0.6, 1.0, 0.07}, straddling, 0.0)) << "a robot taking 7 cm steps";
+    EXPECT_TRUE(fit.fits(robot, {0.5, 0.0, 0.0}, 0.0)) << "on the slab alone";
+  }
 }
 
 }  // namespace
