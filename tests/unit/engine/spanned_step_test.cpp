@@ -37,7 +37,7 @@ double spannedStep(const std::vector<Eigen::Vector3f>& corners) {
   return limit.spannedStep(ground_of, 0, 1, 2);
 }
 
-// At 4 m the fans' returns lie about 0.13 m apart along the beam: a triangle reaching 0.5 m on
+// At 4 m the fans' returns lie about 0.13 m apart along the beam: a triangle reaching 0.5 m
 // bridged ground no beam saw.
 TEST(SpannedStep, ALongTriangleDroppingAwayFromTheScannerSpansItsDrop) {
   EXPECT_NEAR(spannedStep({{4.0F, 0.0F, 0.0F}, {4.5F, 0.05F, -0.07F}, {4.5F, -0.05F, -0.07F}}),
@@ -48,8 +48,16 @@ TEST(SpannedStep, GroundRisingAwayFromTheScannerIsSeenOnItsSlope) {
   EXPECT_EQ(spannedStep({{4.0F, 0.0F, 0.0F}, {4.5F, 0.05F, 0.07F}, {4.5F, -0.05F, 0.07F}}), 0.0);
 }
 
-TEST(SpannedStep, ATriangleAsLongAsTheSamplesAreApartSpansNothing) {
-  EXPECT_EQ(spannedStep({{4.0F, 0.0F, 0.0F}, {4.2F, 0.05F, -0.07F}, {4.2F, -0.05F, -0.07F}}), 0.0);
+// A triangle only as long as the samples are apart bridges ground no beam saw either: its drop
+// may be a step anywhere between them.
+TEST(SpannedStep, ATriangleAsLongAsTheSamplesAreApartSpansItsDropToo) {
+  EXPECT_NEAR(spannedStep({{4.0F, 0.0F, 0.0F}, {4.2F, 0.05F, -0.07F}, {4.2F, -0.05F, -0.07F}}),
+              0.07, 1e-6);
+}
+
+// Shorter than the cells' step rule's run (kStepRunLength), the cells compare the heights.
+TEST(SpannedStep, ATriangleShorterThanTheStepRulesRunSpansNothing) {
+  EXPECT_EQ(spannedStep({{4.0F, 0.0F, 0.0F}, {4.1F, 0.05F, -0.07F}, {4.1F, -0.05F, -0.07F}}), 0.0);
 }
 
 TEST(SpannedStep, ThePlanesOwnSlopeIsNoStep) {
