@@ -109,12 +109,12 @@ std::optional<double> RobotFit::groundHeight(double x, double y, double from_z) 
 std::optional<double> RobotFit::stepBetween(const Eigen::Vector2d& p, const GroundSample& at_p,
                                             const Eigen::Vector2d& q, const GroundSample& at_q,
                                             double from_z) const {
-  if (at_p.primitive == at_q.primitive && at_p.face == at_q.face) return 0.0;  // one surface
-  // Where the surfaces meet, found by halving the stretch between the samples down to
-  // kStepSearchPrecision; then each surface's plane height there.
   auto sameSurface = [](const GroundSample& a, const GroundSample& b) {
     return a.primitive == b.primitive && a.face == b.face;
   };
+  if (sameSurface(at_p, at_q)) return 0.0;
+  // Where the surfaces meet, found by halving the stretch between the samples down to
+  // kStepSearchPrecision; then each surface's plane height there.
   Eigen::Vector2d near_p = p, near_q = q;
   GroundSample beyond_meet = at_q;
   while ((near_q - near_p).norm() > kStepSearchPrecision) {
