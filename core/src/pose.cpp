@@ -71,12 +71,31 @@ std::string_view poseSourceName(PoseSource source) {
   return "none";
 }
 
+bool unitQuaternion(std::array<double, 4>& q, double smallest) {
+  double largest = 0.0;
+  for (const double component : q) {
+    if (!std::isfinite(component)) return false;
+    largest = std::max(largest, std::abs(component));
+  }
+  if (largest < smallest) return false;
+  std::array<double, 4> scaled = q;
+  double norm_squared = 0.0;
+  for (double& component : scaled) {
+    component /= largest;  // now within [-1, 1], one of them +-1: the norm cannot overflow
+    norm_squared += component * component;
+  }
+  const double norm = std::sqrt(norm_squared);
+  for (std::size_t k = 0; k < q.size(); ++k)
+    q[k] = scaled[k] / norm;
+  return true;
+}
+
 SensorPose poseFromQuaternion(const Eigen::Vector3d& translation, double qw, double qx, double qy,
                               double qz) {
-  Eigen::Quaterniond q(qw, qx, qy, qz);
-  if (!std::isfinite(q.norm()) || q.norm() < 1e-9)
+  std::array<double, 4> unit{qw, qx, qy, qz};
+  if (!unitQuaternion(unit))
     throw std::invalid_argument("the rotation quaternion has zero length or is not finite");
-  q.normalize();
+  const Eigen::Quaterniond q(unit[0], unit[1], unit[2], unit[3]);
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   pose.linear() = q.toRotationMatrix();
   pose.translation() = translation;

@@ -6,6 +6,7 @@
 // scan, or be estimated from it (docs/ALGORITHM.md, "Up direction without a pose").
 
 #include <Eigen/Core>
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -43,8 +44,15 @@ Eigen::Vector3d parseUpText(const std::string& text);
 // A pose whose world z is `up` (a unit vector in the scanner frame), yaw chosen from the scanner's
 // x axis: what an up direction alone says about world_from_scanner.
 SensorPose poseFromUp(const Eigen::Vector3d& up);
+// Throws std::invalid_argument when (qw, qx, qy, qz) is zero or not finite (unitQuaternion).
 SensorPose poseFromQuaternion(const Eigen::Vector3d& translation, double qw, double qx, double qy,
                               double qz);
+
+// Scales `q` (its four components in any order) to unit length; false, leaving it as it was, when
+// a component is not finite or the largest is below `smallest` (zero but for rounding). Divided
+// by its largest component first: the norm of components of 1e200 overflows to infinity, and
+// dividing by that made every component 0, the identity rotation, without a word.
+bool unitQuaternion(std::array<double, 4>& q, double smallest = 1e-9);
 
 // The sidecars resolution looks for, in order: SCAN.pose.json with the scan's extension replaced,
 // then with it kept (garage.pose.json, garage.pcd.pose.json).

@@ -7,17 +7,23 @@
 #include <sstream>
 
 #include "clearway/io/scan_error.h"
+#include "clearway/pose.h"
 
 namespace clearway::pcd {
 namespace {
 
-// Below this a VIEWPOINT quaternion is taken for zero (its direction is rounding noise).
-constexpr double kSmallestQuaternionNorm = 1e-6;
+// Below this largest component a VIEWPOINT quaternion is taken for zero (its direction is
+// rounding noise).
+constexpr double kSmallestQuaternionComponent = 1e-6;
 
 // A binary body whose first bytes are all digits, signs, points, spaces and line breaks is text:
 // binary floats of a scan hold zero bytes and bytes above 0x7f within a few points. Read as
 // floats, such a body gave coordinates of 1e28 and the rest of the file unread, without a word.
 constexpr std::size_t kTextProbeBytes = 256;
+
+// A field of more elements than this is no point attribute (PCL's own histograms hold a few
+// hundred).
+constexpr std::uint64_t kMostElementsPerField = 4096;
 bool bodyLooksLikeText(std::string_view body) {
   if (body.size() < kTextProbeBytes) return false;  // too little to tell
   return std::all_of(body.begin(), body.begin() + kTextProbeBytes, [](char c) {
@@ -107,6 +113,20 @@ void checkBodySize(const std::filesystem::path& file, std::string_view prefix,
   }
 }
 
+// A binary body a whole point record or more longer than the header's points: the count is
+// wrong, and the points after it were left unread without a word (a header saying 100 points of
+// 7,200). Checked after the body's start, whose problems say more (text, a header keyword).
+void checkBinaryBodyNotLonger(const std::filesystem::path& file, std::uint64_t file_size,
+                              const Header& header) {
+  if (header.encoding != Encoding::kBinary || header.pointSize() == 0) return;
+  const std::uint64_t body = file_size - header.data_offset;
+  const std::uint64_t expected = header.points * header.pointSize();
+  if (body >= expected + header.pointSize())
+    throw ScanError(file, "PCD header promises " + std::to_string(header.points) + " points (" +
+                              std::to_string(expected) + " bytes) but " + std::to_string(body) +
+                              " bytes follow: a wrong WIDTH, HEIGHT or POINTS?");
+}
+
 // PCL's reader parses the header again and reads the line after DATA as a header line too: when
 // it starts like one of PCL's keywords ("COLUMNS", the v0.5 name of FIELDS, or any other), PCL
 // replaced the fields our check saw, or sized a string by the bytes after it and read beyond its
@@ -181,13 +201,11 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
         header.viewpoint[i] = parseFinite(file, "VIEWPOINT", values[i]);
       // The rotation as a unit quaternion (qw qx qy qz); a zero one is no rotation at all, and was
       // read as none (the identity) without a word.
-      const double norm = std::sqrt(
-          header.viewpoint[3] * header.viewpoint[3] + header.viewpoint[4] * header.viewpoint[4] +
-          header.viewpoint[5] * header.viewpoint[5] + header.viewpoint[6] * header.viewpoint[6]);
-      if (norm < kSmallestQuaternionNorm)
+      std::array<double, 4> rotation{header.viewpoint[3], header.viewpoint[4], header.viewpoint[5],
+                                     header.viewpoint[6]};
+      if (!unitQuaternion(rotation, kSmallestQuaternionComponent))
         throw ScanError(file, "VIEWPOINT's rotation (qw qx qy qz) is zero: not a rotation");
-      for (std::size_t i = 3; i < 7; ++i)
-        header.viewpoint[i] /= norm;
+      std::copy(rotation.begin(), rotation.end(), header.viewpoint.begin() + 3);
     } else if (key == "DATA" && values.size() == 1) {
       if (values[0] == "ascii")
         header.encoding = Encoding::kAscii;
@@ -212,15 +230,20 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     throw ScanError(file, "PCD header: FIELDS, SIZE, TYPE and COUNT disagree in length");
   for (std::size_t i = 0; i < field_count; ++i) {
     Field& field = header.fields[i];
-    field.size = static_cast<int>(parseCount(file, "SIZE", sizes[i]));
+    // Compared as read, before they are narrowed: a SIZE of 2^32 + 4 became 4 and passed.
+    const std::uint64_t size = parseCount(file, "SIZE", sizes[i]);
+    const std::uint64_t count = counts.empty() ? 1 : parseCount(file, "COUNT", counts[i]);
+    if (size > 8 || count < 1 || count > kMostElementsPerField)
+      throw ScanError(file, "PCD header: field '" + field.name + "' has an unsupported size/count");
+    field.size = static_cast<int>(size);
     if (types[i].size() != 1 || std::string_view("FIU").find(types[i][0]) == std::string_view::npos)
       throw ScanError(file, "PCD header: TYPE '" + types[i] + "' is not F, I or U");
     field.type = types[i][0];
-    field.count = counts.empty() ? 1 : static_cast<int>(parseCount(file, "COUNT", counts[i]));
+    field.count = static_cast<int>(count);
     const bool size_ok = field.type == 'F' ? (field.size == 4 || field.size == 8)
                                            : (field.size == 1 || field.size == 2 ||
                                               field.size == 4 || field.size == 8);
-    if (!size_ok || field.count < 1 || field.count > 4096)
+    if (!size_ok)
       throw ScanError(file, "PCD header: field '" + field.name + "' has an unsupported size/count");
   }
   for (const char* axis : {"x", "y", "z"}) {
@@ -236,7 +259,8 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     throw ScanError(file, "header claims " + std::to_string(header.width) + " x " +
                               std::to_string(header.height) + " points, more than the limit of " +
                               std::to_string(max_points));
-  if (!has_points) header.points = header.width * header.height;
+  // PCL's reader needs the line, and failed with "corrupt or shorter than its header says".
+  if (!has_points) throw ScanError(file, "PCD header has no POINTS line");
   if (header.points != header.width * header.height)
     throw ScanError(
         file, "PCD header: POINTS " + std::to_string(header.points) + " is not WIDTH x HEIGHT");
@@ -246,6 +270,7 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
                     "PCD header says DATA binary, but its body reads as rows of numbers "
                     "in text: is it DATA ascii?");
   checkBodyStart(file, prefix, header);
+  checkBinaryBodyNotLonger(file, file_size, header);
   return header;
 }
 
