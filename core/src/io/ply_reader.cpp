@@ -75,6 +75,11 @@ double readScalar(const char* at, const std::string& type, bool swap) {
   return as(double{});
 }
 
+bool hasListProperty(const PlyElement& element) {
+  return std::any_of(element.properties.begin(), element.properties.end(),
+                     [](const PlyProperty& property) { return property.is_list; });
+}
+
 struct PlyHeader {
   PlyFormat format = PlyFormat::kAscii;
   std::vector<PlyElement> elements;
@@ -189,6 +194,37 @@ bool readPlyRow(std::string_view line, std::vector<double>& row, std::size_t& va
   }
 }
 
+// The rows of an ascii PLY's vertices (the first element): its first vertex.count lines that are
+// not blank, up to the end of the last, and how many rows follow them (up to the end of the file).
+// Throws when the file has fewer.
+struct AsciiVertexRows {
+  std::string_view rows;
+  std::size_t rows_after = 0;
+};
+AsciiVertexRows asciiVertexRows(const std::filesystem::path& file, std::string_view bytes,
+                                const PlyHeader& header, const PlyElement& vertex) {
+  const auto blank = [](std::string_view line) {
+    return line.find_first_not_of(" \t\r") == std::string_view::npos;
+  };
+  std::size_t position = header.body_offset, rows = 0, rows_end = position, rows_after = 0;
+  while (position < bytes.size()) {
+    std::size_t end = bytes.find('\n', position);
+    if (end == std::string_view::npos) end = bytes.size();
+    const bool row = !blank(bytes.substr(position, end - position));
+    position = std::min(end + 1, bytes.size());
+    if (rows < vertex.count) {
+      rows += row;
+      rows_end = position;
+    } else {
+      rows_after += row;
+    }
+  }
+  if (rows < vertex.count)
+    throw ScanError(file, "truncated: " + std::to_string(rows) + " of " +
+                              std::to_string(vertex.count) + " vertices present");
+  return {bytes.substr(header.body_offset, rows_end - header.body_offset), rows_after};
+}
+
 int propertyIndex(const PlyElement& element, std::initializer_list<const char*> names) {
   for (const char* name : names)
     for (std::size_t i = 0; i < element.properties.size(); ++i)
@@ -212,12 +248,15 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
     throw ScanError(file, "header claims " + std::to_string(vertex.count) +
                               " vertices, more than the limit of " +
                               std::to_string(options.max_points));
-  checkSizes(file, header, vertex, file_size);
-  const std::string bytes = readWholeFile(file, kMaxPlyBytes);
   const int ix = propertyIndex(vertex, {"x"});
   const int iy = propertyIndex(vertex, {"y"});
   const int iz = propertyIndex(vertex, {"z"});
   if (ix < 0 || iy < 0 || iz < 0) throw ScanError(file, "PLY vertices have no x, y, z");
+  if (hasListProperty(vertex))
+    throw ScanError(file, "PLY: list properties on vertices are not supported");
+  checkSizes(file, header, vertex, file_size);
+  refuseBeyondMemory(file, vertex.count, file_size, options);
+  const std::string bytes = readWholeFile(file, kMaxPlyBytes);
   const int ii =
       propertyIndex(vertex, {"intensity", "scalar_intensity", "remission", "reflectance"});
   int ir = -1;  // a multi-beam frame's ring number
@@ -232,19 +271,21 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
     // Vertices come first in every PLY we meet; a scan with faces before vertices is not one.
     if (&vertex != &header.elements.front())
       throw ScanError(file, "PLY: elements before the vertices are not supported in ascii files");
+    const AsciiVertexRows vertex_rows = asciiVertexRows(file, bytes, header, vertex);
     if (vertex.properties.size() > 4 || ix > 3 || iy > 3 || iz > 3 || ii > 3 || ir > 3) {
       // Rows with many columns: each a line of exactly one number per property, as the rows
       // below (a stream read across lines took a row cut short with the next one's values).
       std::size_t line_number = std::size_t(
           std::count(bytes.begin(), bytes.begin() + std::ptrdiff_t(header.body_offset), '\n'));
       std::size_t position = header.body_offset;
+      const std::size_t rows_end = header.body_offset + vertex_rows.rows.size();
       std::vector<double> row(vertex.properties.size());
       for (std::uint64_t v = 0; v < vertex.count;) {
-        if (position >= bytes.size())
+        if (position >= rows_end)
           throw ScanError(file, "truncated: " + std::to_string(v) + " of " +
                                     std::to_string(vertex.count) + " vertices present");
         std::size_t end = bytes.find('\n', position);
-        if (end == std::string::npos) end = bytes.size();
+        if (end == std::string::npos || end > rows_end) end = rows_end;
         const std::string_view line(bytes.data() + position, end - position);
         position = end + 1;
         ++line_number;
@@ -261,8 +302,7 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
         ++v;
       }
     } else {
-      std::string_view body(bytes);
-      body.remove_prefix(header.body_offset);
+      const std::string_view body = vertex_rows.rows;
       std::uint64_t read = 0;
       NumberRowRules rules;
       rules.min_columns = vertex.properties.size();
@@ -272,7 +312,6 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
       parseNumberRows(
           file, body, rules,
           [&](const std::array<double, 4>& v, std::size_t columns) {
-            if (read >= vertex.count) return;  // face rows follow the vertices
             if (columns != vertex.properties.size())
               throw ScanError(file, "PLY vertex " + std::to_string(read) + " has " +
                                         std::to_string(columns) + " values where its " +
@@ -289,20 +328,21 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
         throw ScanError(file, "truncated: " + std::to_string(read) + " of " +
                                   std::to_string(vertex.count) + " vertices present");
     }
+    // With no element after the vertices, rows after them mean the header's count is wrong: they
+    // were left unread without a word. Said once the vertices read, whose problems say more.
+    if (&vertex == &header.elements.back() && vertex_rows.rows_after > 0)
+      throw ScanError(file, "PLY holds " + std::to_string(vertex_rows.rows_after) +
+                                " rows after its " + std::to_string(vertex.count) +
+                                " vertices, and no element they belong to: a wrong vertex count?");
   } else {
     std::size_t offset = header.body_offset;
     for (const PlyElement& element : header.elements) {
       if (&element == &vertex) break;
-      const bool has_list = std::any_of(element.properties.begin(), element.properties.end(),
-                                        [](const PlyProperty& p) { return p.is_list; });
-      if (has_list)
+      if (hasListProperty(element))
         throw ScanError(file, "PLY: list elements before the vertices are not supported");
       offset += element.recordSize() * element.count;
     }
     const std::size_t record = vertex.recordSize();
-    const bool has_list = std::any_of(vertex.properties.begin(), vertex.properties.end(),
-                                      [](const PlyProperty& p) { return p.is_list; });
-    if (has_list) throw ScanError(file, "PLY: list properties on vertices are not supported");
     std::vector<std::size_t> property_offsets;
     std::size_t running = 0;
     for (const PlyProperty& property : vertex.properties) {
