@@ -105,6 +105,9 @@ std::optional<SensorPose> readUosPose(const std::filesystem::path& scan_file) {
   std::size_t count = 0;
   const char* at = text.data();
   const char* end = text.data() + text.size();
+  // A UTF-8 byte-order mark (editors on Windows write one) is no number, and invisible in the
+  // message that said so ("found '0'"): skipped, as in the scans' own text.
+  if (std::string_view(text).starts_with(kByteOrderMark)) at += kByteOrderMark.size();
   while (true) {
     while (at < end && std::isspace(static_cast<unsigned char>(*at)))
       ++at;
@@ -175,8 +178,24 @@ Scan readUos(const std::filesystem::path& file, const LoadOptions& options) {
 
 // A Velodyne sees at most about 120 m; a return farther than this is no measurement [m].
 constexpr double kFarthestVelodyneReturn = 1000.0;
+// Nor is one nearer than this, unless it is exactly at the origin (a no-return some converters
+// write as zeros): text read as floats gives ranges of 1e-5 m and less [m].
+constexpr double kNearestVelodyneReturn = 1e-3;
+
+// A record that no Velodyne frame holds: a coordinate not finite, a range over 1 km or under
+// 1 mm (but for zeros), a reflectance that is not a finite number of at least 0. Records of
+// another layout (x y z alone, or five floats) read as 16-byte ones put coordinates, about half
+// of them negative, where the reflectance belongs.
+bool implausibleVelodyneRecord(const float (&record)[4], double range) {
+  const bool at_origin = record[0] == 0.0F && record[1] == 0.0F && record[2] == 0.0F;
+  return !(range <= kFarthestVelodyneReturn) || (!at_origin && range < kNearestVelodyneReturn) ||
+         !(record[3] >= 0.0F) || !std::isfinite(record[3]);
+}
 
 Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options) {
+  std::error_code size_error;  // an unreadable file is readWholeFile's to say
+  if (const std::uintmax_t size = std::filesystem::file_size(file, size_error); !size_error)
+    refuseBeyondMemory(file, size / 16, size, options);
   const std::string bytes = readWholeFile(file, options.max_points * 16);
   constexpr std::size_t kRecord = 4 * sizeof(float);
   if (bytes.size() % kRecord != 0)
@@ -195,7 +214,7 @@ Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options)
     scan.intensity[i] = record[3];
     const double range = std::sqrt(double(record[0]) * record[0] + double(record[1]) * record[1] +
                                    double(record[2]) * record[2]);
-    if (!(range <= kFarthestVelodyneReturn) || !std::isfinite(record[3])) ++implausible;
+    implausible += implausibleVelodyneRecord(record, range);
     // The frame is the sensor's own: a return over 1 km away is a corrupt record, not a point (a
     // few at 1e30 m broke the rings' recovery and took two thirds of a frame's green cells).
     if (!(range <= kFarthestVelodyneReturn)) scan.status.back() = PointStatus::kNoReturn;
@@ -205,8 +224,9 @@ Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options)
   if (double(implausible) > kMostImplausiblePointShare * double(count))
     throw ScanError(file, "not a Velodyne frame: " + std::to_string(implausible) + " of " +
                               std::to_string(count) +
-                              " records are not finite or lie over 1 km away (a KITTI .bin holds "
-                              "x, y, z and reflectance as 32-bit floats)");
+                              " records are not finite, lie over 1 km away or within 1 mm, or "
+                              "have a negative reflectance (a KITTI .bin holds x, y, z and "
+                              "reflectance as 32-bit floats, 16 bytes a point)");
   scan.metadata.format = "kitti bin";
   scan.metadata.frame = "as stored: metres, x forward, z up";
   // The format's frame is the Velodyne's on the car, z up by KITTI's definition (the car stands on

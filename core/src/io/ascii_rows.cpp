@@ -1,5 +1,6 @@
 #include "ascii_rows.h"
 
+#include <algorithm>
 #include <charconv>
 #include <limits>
 #include <string>
@@ -32,6 +33,33 @@ int parseLine(std::string_view line, std::array<double, 4>& values) {
   }
 }
 
+// Whether a row writes its numbers with decimal commas ("1,48 0,00 0,06", "1,5;0,0;0,1"): words
+// between spaces, tabs or semicolons that are each digits, one comma and digits, three or more of
+// them. Read with the comma as a separator, such a row gave twice the numbers, x a whole number
+// and the fractions as y, z and intensity, and loaded without a word.
+bool writesDecimalCommas(std::string_view line) {
+  std::size_t words = 0, at = 0;
+  const auto between = [](char c) { return c == ' ' || c == '\t' || c == '\r' || c == ';'; };
+  const auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  while (true) {
+    while (at < line.size() && between(line[at]))
+      ++at;
+    if (at == line.size()) return words >= 3;
+    std::size_t end = at;
+    while (end < line.size() && !between(line[end]))
+      ++end;
+    std::string_view word = line.substr(at, end - at);
+    if (word.front() == '-' || word.front() == '+') word.remove_prefix(1);
+    const std::size_t comma = word.find(',');
+    if (comma == std::string_view::npos || comma == 0 || comma + 1 == word.size() ||
+        !std::all_of(word.begin(), word.begin() + std::ptrdiff_t(comma), digit) ||
+        !std::all_of(word.begin() + std::ptrdiff_t(comma) + 1, word.end(), digit))
+      return false;
+    ++words;
+    at = end;
+  }
+}
+
 }  // namespace
 
 bool parseNumberWord(std::string_view word, double& value) {
@@ -55,7 +83,6 @@ void parseNumberRows(const std::filesystem::path& file, std::string_view text,
                      const NumberRowRules& rules,
                      const std::function<void(const std::array<double, 4>&, std::size_t)>& row,
                      const ProgressCallback& progress) {
-  constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
   std::size_t position = text.substr(0, kByteOrderMark.size()) == kByteOrderMark ? 3 : 0;
   std::size_t line_number = rules.lines_before;
   std::size_t rows = 0;
@@ -81,6 +108,12 @@ void parseNumberRows(const std::filesystem::path& file, std::string_view text,
       throw ScanError(file, "line " + std::to_string(line_number) + ": expected at least " +
                                 std::to_string(min_columns) + " numbers, got '" +
                                 std::string(line.substr(0, 60)) + "'");
+    if (rows == 0 && writesDecimalCommas(line))
+      throw ScanError(file, "line " + std::to_string(line_number) + ": '" +
+                                std::string(line.substr(0, 60)) +
+                                "' writes its numbers with decimal commas; a scan's text needs a "
+                                "decimal point (1.48), numbers apart by spaces, tabs, commas or "
+                                "semicolons");
     row(values, std::size_t(columns));
     ++rows;
     if (position > next_report) {

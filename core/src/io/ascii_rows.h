@@ -10,6 +10,9 @@
 
 namespace clearway::detail {
 
+// The bytes a UTF-8 text may start with to say it is UTF-8; not part of the text.
+inline constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+
 // One number as text writes it (decimal or exponent, nan, inf, an optional sign) filling all of
 // `word`; one too large for a double is infinite, too small zero. False for anything else.
 bool parseNumberWord(std::string_view word, double& value);

@@ -1,6 +1,8 @@
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <numbers>
 
@@ -44,6 +46,45 @@ void addCaution(Scan& scan, const std::string& caution) {
   all += (all.empty() ? "" : "; ") + caution;
 }
 
+namespace {
+
+// The memory the machine has available now (/proc/meminfo's MemAvailable) [bytes]; 0 where it
+// cannot be read.
+std::uint64_t availableMemory() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key, unit;
+  std::uint64_t kibibytes = 0;
+  while (meminfo >> key >> kibibytes) {
+    if (key == "MemAvailable:") return kibibytes * 1024;
+    std::getline(meminfo, unit);  // the rest of the line: its unit
+  }
+  return 0;
+}
+
+std::string memoryText(std::uint64_t bytes) {
+  char text[32];
+  if (bytes < 1'000'000'000)
+    std::snprintf(text, sizeof text, "%.0f MB", double(bytes) / 1e6);
+  else
+    std::snprintf(text, sizeof text, "%.1f GB", double(bytes) / 1e9);
+  return text;
+}
+
+}  // namespace
+
+void refuseBeyondMemory(const std::filesystem::path& file, std::uint64_t points,
+                        std::uint64_t file_bytes, const LoadOptions& options) {
+  const std::uint64_t budget =
+      options.memory_budget > 0 ? options.memory_budget : availableMemory();
+  if (budget == 0) return;
+  const std::uint64_t needed = file_bytes + points * kBytesPerPointToSegment;
+  if (needed <= budget) return;
+  throw ScanError(file, std::to_string(points) +
+                            " points: loading and segmenting them takes about " +
+                            memoryText(needed) + ", and " + memoryText(budget) +
+                            " is available (thin the scan, or free memory)");
+}
+
 void appendPoint(Scan& scan, float x, float y, float z) {
   scan.points.push_back({x, y, z});
   const bool finite = std::isfinite(x) && std::isfinite(y) && std::isfinite(z);
@@ -82,6 +123,27 @@ void refuseOrDropImpossibleRanges(Scan& scan, const std::filesystem::path& file)
                               "type or byte order wrong, or its unit not metres? a georeferenced "
                               "cloud must first be moved to its sensor's origin)");
   detail::addCaution(scan, counted + " and were read as no returns (corrupt records)");
+}
+
+// Valid points all within this of one another [m] are one place seen again and again, not a scan.
+constexpr double kOnePlace = 1e-3;
+
+// A file whose points all lie at one place (a converter writing one point over and over, a
+// frame of zeros with a few corrupt records) holds nothing to segment; its reason was "the scan
+// has one scan line: give its rings", which sent the operator to the wrong problem.
+void refusePointsAllAtOnePlace(const Scan& scan, const std::filesystem::path& file) {
+  Eigen::AlignedBox3d box;
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (scan.isValid(i))
+      box.extend(Eigen::Vector3d(scan.points[i].x, scan.points[i].y, scan.points[i].z));
+  // One point is a scan too sparse to segment, which the pipeline says.
+  if (scan.validCount() < 2 || box.diagonal().norm() > kOnePlace) return;
+  const Eigen::Vector3d at = box.center();
+  char place[96];
+  std::snprintf(place, sizeof place, "(%.3f, %.3f, %.3f)", at.x(), at.y(), at.z());
+  throw ScanError(file, "all " + std::to_string(scan.validCount()) +
+                            " valid points lie at one place, " + place +
+                            ": nothing was scanned (a converter writing one point again?)");
 }
 
 }  // namespace
@@ -176,6 +238,7 @@ Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
         kinds += (kinds.empty() ? "" : ", ") + std::to_string(count) + " " + name;
     throw ScanError(file, "no valid points: all " + std::to_string(scan.size()) + " are " + kinds);
   }
+  refusePointsAllAtOnePlace(scan, file);
   if (scan.lines.empty()) {
     reconstructScanLines(scan, options.line_break_deg * std::numbers::pi / 180.0);
     if (options.rings == 0) recoverFiringOrderRings(scan);

@@ -80,6 +80,7 @@ Scan readPcd(const std::filesystem::path& file, const LoadOptions& options) {
   std::uintmax_t file_size = 0;
   const std::string prefix = readFilePrefix(file, pcd::kHeaderPrefixBytes, file_size);
   const pcd::Header header = pcd::parseHeader(file, prefix, file_size, options.max_points);
+  refuseBeyondMemory(file, header.points, file_size, options);
   if (header.encoding == pcd::Encoding::kAscii) pcd::checkAsciiBody(file, header);
   reportProgress(options.progress, 0.05);
 

@@ -34,6 +34,16 @@ std::size_t checkTextScanStart(const std::filesystem::path& file);
 // file with a larger share of them is not a scan.
 constexpr double kMostImplausiblePointShare = 0.01;
 
+// What loading and segmenting a scan holds at most per point [bytes]: `clearway-cli segment`
+// peaked at 238 MB resident on the simulator's 1M-point garage (the libraries' own 25 MB
+// included), `info` at 182 MB.
+constexpr std::uint64_t kBytesPerPointToSegment = 250;
+
+// Refuses a scan of `points` points read from a file of `file_bytes` when loading and segmenting
+// it would take more than options.memory_budget (or the memory available now), naming both.
+void refuseBeyondMemory(const std::filesystem::path& file, std::uint64_t points,
+                        std::uint64_t file_bytes, const LoadOptions& options);
+
 // Appends to what the user must know to read the result (ScanMetadata::caution).
 void addCaution(Scan& scan, const std::string& caution);
 

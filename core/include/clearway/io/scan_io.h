@@ -27,6 +27,11 @@ struct LoadOptions {
   std::size_t rings = 0;
   // Files claiming more points than this are refused before anything is allocated.
   std::uint64_t max_points = 200'000'000;
+  // Memory the scan may take to load and segment [bytes]; 0: what the machine has available when
+  // it is loaded (MemAvailable; unchecked where that cannot be read). A file claiming more points
+  // than that holds is refused before anything is allocated, rather than the process killed by
+  // the kernel part-way (the console with it).
+  std::uint64_t memory_budget = 0;
   ProgressCallback progress;
 };
 
