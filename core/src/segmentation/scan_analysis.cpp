@@ -39,6 +39,12 @@ class StageClock {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+// Where the scan's own pose came from (a pose read with the file leaves it kNone), or kNone.
+PoseSource givenPoseSource(const Scan& scan) {
+  if (!scan.sensor_pose) return PoseSource::kNone;
+  return scan.pose_source == PoseSource::kNone ? PoseSource::kFile : scan.pose_source;
+}
+
 }  // namespace
 
 ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int threads,
@@ -54,6 +60,10 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
     analysis.reason = "scan too sparse: " + std::to_string(analysis.valid_points) +
                       " valid points (at least " + std::to_string(kMinValidPoints) + " needed)";
     analysis.planes.point_plane.assign(scan.size(), -1);
+    // What the pose is said of the scan as it is for any other (report.json said "none" with a
+    // confidence of 1 where the console said "pose: file").
+    analysis.pose_source = givenPoseSource(scan);
+    analysis.up_confidence = scan.sensor_pose ? 1.0 : 0.0;
     return analysis;
   }
   auto stageProgress = [&](double from, double to) -> ProgressCallback {
@@ -97,8 +107,7 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   reportProgress(progress, 0.8);
 
   if (scan.sensor_pose) {
-    analysis.pose_source =
-        scan.pose_source == PoseSource::kNone ? PoseSource::kFile : scan.pose_source;
+    analysis.pose_source = givenPoseSource(scan);
     if (scan.pose_source == PoseSource::kSidecar) {
       const SensorPose& pose = *scan.sensor_pose;
       Eigen::Isometry3d robot_from_scanner = Eigen::Isometry3d::Identity();
