@@ -18,6 +18,7 @@
 #include <QSettings>
 #include <QSignalSpy>
 #include <QSlider>
+#include <QSpinBox>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QTemporaryDir>
@@ -153,6 +154,88 @@ class ConsoleTruthTest : public QObject {
     auto* bar = window.findChild<QProgressBar*>("scanProgress");
     QVERIFY2(bar->value() <= bar->minimum(),
              qPrintable(QString("scan progress still at %1").arg(bar->value())));
+  }
+
+  // A robot changed while a new scan was acquired re-ran the previous scan and showed its map in
+  // full colour, "done", with green; "Can it get there?" then planned on it. The previous scan
+  // stays greyed whatever is re-run on it, and refuses goals, until the new scan is shown.
+  void aRobotChangedDuringAnAcquisitionKeepsThePreviousMapGrey() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    const auto previous_scan = window.shownResult().scan;
+    HardwarePanel* panel = window.hardwarePanel();
+    panel->setScanFolder(directory_.filePath("acquired-robot"));
+    panel->setSpeedup(4);  // 4,000 lines at 37.5 a second, four times over: half a minute
+    window.findChild<QSpinBox*>("scanLines")->setValue(4000);
+    auto* scan_button = window.findChild<QPushButton*>("scanButton");
+    panel->connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
+    QSignalSpy saved(panel, &HardwarePanel::scanSaved);
+    scan_button->click();
+    QVERIFY(window.shownIsPrevious());
+    window.findChild<QDoubleSpinBox*>("robot_width_spin")->setValue(0.7);
+    QVERIFY(shown.wait(kTimeoutMs));  // the previous scan re-run for the new robot
+    QCOMPARE(window.shownResult().scan, previous_scan);
+    QCOMPARE(window.shownResult().result->robot.width, 0.7);
+    QVERIFY(window.shownIsPrevious());
+    QVERIFY(window.mapView()->isStale());
+    const QString answer = window.canItGetThere(1.0, 0.0);
+    QVERIFY2(answer.contains("Not on this map"), qPrintable(answer));
+    QVERIFY(window.mapView()->path().empty());
+    // Cancelled, the part acquired is saved and shown: the latest scan, no longer greyed.
+    panel->cancelScan();
+    QVERIFY(saved.count() == 1 || saved.wait(kTimeoutMs));
+    QTRY_VERIFY_WITH_TIMEOUT(window.shownResult().scan != previous_scan, kTimeoutMs);
+    QVERIFY(!window.shownIsPrevious());
+    QVERIFY(!window.mapView()->isStale());
+  }
+
+  // A goal and its path stayed drawn on the next scan of the same place (an acquisition's), though
+  // the answer was dropped.
+  void aGoalLeavesWithItsScan() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    // The reachable cell farthest from where the robot stands.
+    const clearway::TraversabilityMap& map = window.shownResult().result->map;
+    QPointF goal;
+    double farthest = 0.0;
+    for (int row = 0; row < map.grid.height; ++row)
+      for (int column = 0; column < map.grid.width; ++column) {
+        if (!map.reach[map.grid.index(column, row)]) continue;
+        const Eigen::Vector2d centre = map.grid.centre(column, row);
+        const double distance =
+            std::hypot(centre.x() - map.robot_pose.x, centre.y() - map.robot_pose.y);
+        if (distance > farthest) {
+          farthest = distance;
+          goal = QPointF(centre.x(), centre.y());
+        }
+      }
+    QVERIFY(farthest > 1.0);
+    QVERIFY(window.canItGetThere(goal.x(), goal.y()).contains("Yes, reachable"));
+    QVERIFY(!window.mapView()->path().empty());
+    QVERIFY(window.mapView()->goal().has_value());
+    // The answer held the status bar and hid the hover readout wherever the cursor went: the
+    // readout now shows, the answer carried on in it.
+    emit window.mapView()->hovered(goal.x(), goal.y(), "traversable");
+    const QString readout = window.findChild<QLabel*>("hoverText")->text();
+    QVERIFY2(readout.contains("traversable") && readout.contains("Yes, reachable"),
+             qPrintable(readout));
+    QVERIFY(window.statusBar()->currentMessage().isEmpty());
+    // The same place scanned again (as an acquisition saves it): a new scan on the same grid.
+    const QString again = directory_.filePath("garage-again.pcd");
+    QFile::remove(again);
+    QVERIFY(QFile::copy(CLEARWAY_SAMPLES_DIR "/garage.pcd", again));
+    window.openScan(again);
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(window.windowTitle().contains("garage-again.pcd"));
+    QVERIFY(window.mapView()->path().empty());
+    QVERIFY(!window.mapView()->goal().has_value());
   }
 
   // Defect 3: at the sliders' ends the engine accepts the robot: no error, a new map, "custom".

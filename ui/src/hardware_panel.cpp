@@ -318,6 +318,7 @@ void HardwarePanel::connectScanner() {
           forgetJournal();
           emit statusChanged(
               tr("The scan was cancelled before any line arrived; nothing to keep."));
+          emit scanEndedUnsaved();
           return;
         }
         try {
@@ -334,6 +335,7 @@ void HardwarePanel::connectScanner() {
                                      : tr(" Its lines are kept in %1 (clearway-cli acquire "
                                           "--recover).")
                                            .arg(d_->journal)));
+          emit scanEndedUnsaved();
           return;
         }
         forgetJournal();

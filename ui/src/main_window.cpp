@@ -205,6 +205,12 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   connect(d_->map, &MapView::hovered, this, [this](double x, double y, const QString& description) {
     QString text = tr("x %1 m, y %2 m: %3").arg(x, 0, 'f', 2).arg(y, 0, 'f', 2).arg(description);
     if (d_->withheld) text += tr(" — up direction not confirmed: nothing shown as traversable");
+    // The status bar's message hides the readout: the goal's answer, kept until the next goal,
+    // was all the operator saw wherever the cursor went. It is carried on in the readout.
+    if (d_->goal && !d_->goal_answer.isEmpty()) {
+      text += tr("   |   %1").arg(d_->goal_answer);
+      if (statusBar()->currentMessage() == d_->goal_answer) statusBar()->clearMessage();
+    }
     d_->hover->setText(text);
   });
   // Two decimals only where the clicks are that good: at a zoom of 3 cm a pixel a 0.80 m door
@@ -251,6 +257,12 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   // Scan-and-stop: the views grey while a scan is acquired, the 3D view shows it growing, and the
   // saved acquisition is segmented and shown at once.
   connect(d_->hardware, &HardwarePanel::scanStarted, this, &MainWindow::markShownAsPrevious);
+  connect(d_->hardware, &HardwarePanel::scanEndedUnsaved, this, [this] {
+    d_->shown_is_previous = false;  // no newer scan came: the shown one is the latest again
+    d_->map->setStale({});
+    d_->scene->setStale({});
+    updateAge();
+  });
   connect(d_->hardware, &HardwarePanel::linesArrived, d_->scene, &SceneView::showArrivingScan);
   connect(d_->hardware, &HardwarePanel::scanSaved, this,
           [this](const QString& path) { openScan(path); });
@@ -425,13 +437,17 @@ void MainWindow::updateTitle() {
 void MainWindow::showResult(const SessionResult& result) {
   const PipelineResult& pipeline = *result.result;
   // A goal belongs to one scan in one frame: a robot change keeps it, a new scan or pose drops it.
-  if (result.scan != d_->shown.scan) d_->goal.reset();
+  const bool new_scan = result.scan != d_->shown.scan;
+  if (new_scan) dropGoal();
+  // While a new scan is acquired the shown one stays the previous scan, whatever is run on it
+  // again: a robot or slope changed mid-acquisition brought the old map back in full colour,
+  // "done", green under the growing cloud of the new one.
+  d_->shown_is_previous = d_->shown_is_previous && !new_scan;
   d_->shown = result;
   // An estimated up direction may be wrong: nothing is drawn traversable until it is confirmed.
   d_->withheld = pipeline.trusted() && pipeline.analysis->pose_source == PoseSource::kEstimated;
   if (d_->withheld) d_->shown.result = withholdTraversable(pipeline);
-  d_->shown_is_previous = false;
-  d_->map->setStale({});
+  if (!d_->shown_is_previous) d_->map->setStale({});
   d_->map->setResult(d_->shown.result);
   // An untrusted result still shows the cloud, but its scene has no ground and no boxes.
   d_->scene->setScene(d_->shown.scan, d_->shown.result);
@@ -453,7 +469,7 @@ void MainWindow::clearShown() {
   d_->shown = {};
   d_->shown_is_previous = false;
   d_->withheld = false;
-  d_->goal.reset();
+  dropGoal();
   d_->map->clear();
   d_->scene->clearScene();
   d_->trust_bar->hide();

@@ -164,6 +164,12 @@ void MainWindow::planGoal() {
     answer = tr("Can it get there? No: no ground was found in this scan.");
   } else if (d_->withheld) {
     answer = tr("Can it get there? Confirm the up direction or pick the floor first.");
+  } else if (d_->shown_is_previous) {
+    // The map under the question is the previous scan's: planning on it is what its grey says
+    // not to do.
+    answer =
+        tr("Can it get there? Not on this map: a new scan is being acquired; ask again "
+           "once it is shown.");
   } else {
     const GoalResult goal = planPath(result->map, d_->goal->x(), d_->goal->y());
     // The exported report carries the question and its answer, as `segment --goal` writes it.
@@ -181,7 +187,16 @@ void MainWindow::planGoal() {
   d_->map->setPath(path);
   d_->map->setGoal(result ? d_->goal : std::nullopt, reachable);
   d_->scene->setPath(path);
+  d_->goal_answer = answer;
   statusBar()->showMessage(answer);
+}
+
+void MainWindow::dropGoal() {
+  d_->goal.reset();
+  d_->goal_answer.clear();
+  d_->map->setPath({});
+  d_->map->setGoal(std::nullopt, false);
+  d_->scene->setPath({});
 }
 
 }  // namespace clearway::ui

@@ -40,8 +40,10 @@ struct MainWindow::Private {
   JournalRecovery* recovery = nullptr;
   // An estimated up direction the operator has not confirmed: nothing traversable is drawn.
   bool withheld = false;
-  // The last "Can it get there?" goal (map frame), re-planned when the robot changes.
+  // The last "Can it get there?" goal (map frame), re-planned when the robot changes, and its
+  // answer (kept beside the hover readout, which replaces the status bar's message).
   std::optional<QPointF> goal;
+  QString goal_answer;
   ScanPanel* scans = nullptr;
   HardwarePanel* hardware = nullptr;
   std::vector<QDockWidget*> docks;

@@ -46,6 +46,9 @@ class HardwarePanel : public QWidget {
   void statusChanged(const QString& status);
   // An acquisition started: what the views show is from now on the previous scan.
   void scanStarted();
+  // An acquisition ended with nothing saved (cancelled before any line, or the save failed):
+  // what the views show is the latest scan again.
+  void scanEndedUnsaved();
   // The lines of the scan in progress, for the 3D view.
   void linesArrived(std::shared_ptr<const clearway::Scan> so_far);
 

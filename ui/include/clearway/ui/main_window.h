@@ -98,6 +98,8 @@ class MainWindow : public QMainWindow {
   void nudgeRobotWidth(double metres);
   void showPoseAndReach();
   void planGoal();
+  // Forgets the goal and takes its path off both views.
+  void dropGoal();
   void updateTrustBanner();
   void setUpJournalRecovery();
   int updateRecoverAction();  // the File menu's action only; how many journals wait
