@@ -105,6 +105,31 @@ class HardwarePanelTest : public QObject {
     QVERIFY2(vouched() < at_423, qPrintable(density->text()));
   }
 
+  // The simulated RoSi scanned the scene it was connected with, whatever the box said after.
+  void aSceneChosenWhileConnectedIsTheOneScanned() {
+    QTemporaryDir directory;
+    HardwarePanel panel;
+    panel.setScanFolder(directory.filePath("simulated"));
+    panel.setSpeedup(400);
+    panel.findChild<QSpinBox*>("scanLines")->setValue(40);
+    auto* scene = panel.findChild<QComboBox*>("simulatedScene");
+    scene->setCurrentText("garage");
+    auto* scan = panel.findChild<QPushButton*>("scanButton");
+    panel.connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan->isEnabled(), kTimeoutMs);
+    QSignalSpy status(&panel, &HardwarePanel::statusChanged);
+    scene->setCurrentText("hallway");
+    QTRY_VERIFY_WITH_TIMEOUT(scan->isEnabled(), kTimeoutMs);
+    QSignalSpy saved(&panel, &HardwarePanel::scanSaved);
+    scan->click();
+    QVERIFY(saved.wait(kTimeoutMs));
+    QStringList said;
+    for (const QList<QVariant>& signal : status)
+      said << signal.at(0).toString();
+    QVERIFY2(said.filter("scene hallway): scanning").size() == 1, qPrintable(said.join(" | ")));
+    QVERIFY2(said.filter("scene garage): scanning").isEmpty(), qPrintable(said.join(" | ")));
+  }
+
   void theArmsPoseIsShownAndSavedWithTheScan() {
     clearway::hardware::EmulatorOptions options(20.0, 2);
     options.arm_tilt_deg = 30;

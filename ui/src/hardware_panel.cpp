@@ -168,6 +168,12 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   connect(d_->lines, qOverload<int>(&QSpinBox::valueChanged), this,
           &HardwarePanel::showGroundDensity);
   connect(d_->scene, &QComboBox::currentTextChanged, this, &HardwarePanel::showGroundDensity);
+  // The simulated RoSi scans the scene it was connected with: a scene chosen while it stood
+  // connected was ignored without a word. It connects again to the new one (the box is off while
+  // a scan runs).
+  connect(d_->scene, &QComboBox::currentTextChanged, this, [this] {
+    if (dynamic_cast<hardware::SimulatedRosi*>(d_->scanner.get()) && !scanning()) connectScanner();
+  });
   connect(d_->device, qOverload<int>(&QComboBox::currentIndexChanged), this,
           &HardwarePanel::showGroundDensity);
   showGroundDensity();
@@ -291,6 +297,7 @@ void HardwarePanel::connectScanner() {
     d_->connect->setEnabled(state == ScannerDevice::State::kDisconnected ||
                             state == ScannerDevice::State::kFailed);
     d_->cancel->setEnabled(state == ScannerDevice::State::kScanning);
+    d_->scene->setEnabled(state != ScannerDevice::State::kScanning);
     emit statusChanged(tr("%1: %2.").arg(device->description(), ScannerDevice::stateName(state)));
   });
   connect(device, &ScannerDevice::linesArrived, this, &HardwarePanel::linesArrived);

@@ -279,6 +279,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   });
   connect(d_->session, &SegmentationSession::resultReady, this, &MainWindow::showResult);
   connect(d_->session, &SegmentationSession::failed, this, &MainWindow::showFailure);
+  connect(d_->session, &SegmentationSession::cancelled, this, &MainWindow::showCancelled);
   d_->age_timer.setInterval(kAgeRefreshMs);
   connect(&d_->age_timer, &QTimer::timeout, this, &MainWindow::updateAge);
   d_->age_timer.start();
@@ -490,6 +491,15 @@ void MainWindow::showFailure(const QString& reason) {
   box->setAttribute(Qt::WA_DeleteOnClose);
   box->open();
   emit failureShown(reason);
+}
+
+void MainWindow::showCancelled() {
+  // As a failure drops what is shown (showFailure), without its error dialog: the operator asked.
+  if (!d_->session->hasResult()) clearShown();
+  statusBar()->showMessage(d_->session->hasResult()
+                               ? tr("Cancelled; the map shown is the one before.")
+                               : tr("Cancelled; no scan is shown."));
+  emit cancelShown();
 }
 
 QString MainWindow::exportTo(ExportKind kind, const QString& path,

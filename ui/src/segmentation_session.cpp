@@ -134,7 +134,7 @@ SegmentationSession::SegmentationSession(QObject* parent)
     const JobOutcome outcome = d_->load_watcher.result();
     emit busyChanged(busy());
     if (outcome.cancelled) {
-      emit failed(tr("Cancelled."));
+      emit cancelled();
     } else if (!outcome.error.isEmpty()) {
       emit failed(outcome.error);
     } else {

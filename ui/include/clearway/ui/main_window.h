@@ -78,6 +78,8 @@ class MainWindow : public QMainWindow {
   // A result (or a failure) has been shown.
   void resultShown(bool trusted);
   void failureShown(const QString& reason);
+  // A cancelled open or segmentation has been said (in the status bar: no error dialog).
+  void cancelShown();
   void exported(const QString& path);
   void journalsRecovered(const QStringList& scans, const QStringList& problems);
 
@@ -91,6 +93,7 @@ class MainWindow : public QMainWindow {
   void addViewToolBar();
   void showResult(const SessionResult& result);
   void showFailure(const QString& reason);
+  void showCancelled();
   void clearShown();
   void updateTitle();
   void updateAge();
