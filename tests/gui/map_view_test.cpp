@@ -177,6 +177,33 @@ class MapViewTest : public QObject {
     QVERIFY(std::isnan(map->passageWidthAt(1.0, -1.0)));
   }
 
+  // "too narrow — passage 1.80 m wide" for a 0.85 m robot: a width the robot fits through does
+  // not explain a box that fits nowhere, and is not given as if it did.
+  void aTooNarrowCellNamesNoPassageTheRobotFitsThrough() {
+    MapView* map = window_->mapView();
+    const clearway::TraversabilityMap& labels = window_->shownResult().result->map;
+    const double robot_width = window_->shownResult().result->robot.width;
+    int wide_but_blocked = 0;
+    for (int row = 0; row < labels.grid.height; ++row)
+      for (int column = 0; column < labels.grid.width; ++column) {
+        const std::size_t cell = labels.grid.index(column, row);
+        if (CellLabel(labels.labels[cell]) != CellLabel::kImpassable ||
+            clearway::CellReason(labels.reasons[cell]) != clearway::CellReason::kTooNarrow)
+          continue;
+        const Eigen::Vector2d centre = labels.grid.centre(column, row);
+        const double width = map->passageWidthAt(centre.x(), centre.y());
+        const QString said = map->describe(centre.x(), centre.y());
+        if (!std::isnan(width) && width >= robot_width) {
+          ++wide_but_blocked;
+          QVERIFY2(!said.contains("passage"), qPrintable(said));
+          QVERIFY2(said.contains("meets something in every heading"), qPrintable(said));
+        } else if (!std::isnan(width)) {
+          QVERIFY2(said.contains("passage"), qPrintable(said));
+        }
+      }
+    QVERIFY(wide_but_blocked > 0);  // the garage has such cells: the test looks at some
+  }
+
   // Ready for the engine's reachability: free cells out of reach are dimmed, a path is drawn.
   void cellsOutOfReachAreDimmedAndAPathIsDrawn() {
     MapView* map = window_->mapView();

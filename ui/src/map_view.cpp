@@ -162,7 +162,17 @@ QString MapView::describe(double map_x, double map_y) const {
                 describeStaircase(stairs.staircases[std::size_t(flight)], result_->robot)) +
             ")";
   const double passage = passageWidthAt(map_x, map_y);
-  if (!std::isnan(passage)) text += tr(" — passage %1 m wide").arg(passage, 0, 'f', 2);
+  // A passage as wide as the robot does not say why its box fits nowhere ("too narrow — passage
+  // 1.80 m wide" for a 0.85 m robot): the box meets a corner, unseen ground or a wall end in every
+  // heading there, which the width across one direction does not see.
+  const bool passage_explains =
+      !(label == CellLabel::kImpassable &&
+        CellReason(map.reasons[map.grid.index(cell.x(), cell.y())]) == CellReason::kTooNarrow &&
+        passage >= result_->robot.width);
+  if (!std::isnan(passage) && passage_explains)
+    text += tr(" — passage %1 m wide").arg(passage, 0, 'f', 2);
+  else if (!std::isnan(passage))
+    text += tr(" — its box meets something in every heading here");
   return text;
 }
 
