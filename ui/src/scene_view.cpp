@@ -163,6 +163,17 @@ void SceneView::setScene(std::shared_ptr<const Scan> scan,
   d_->result = std::move(result);
   d_->has_frame = d_->result && d_->result->trusted();
   d_->stale_note.clear();
+  // The operator's view stands behind the robot: the robot of this result, not the last scan's
+  // (the camera looked from another scan's robot place, into a wall). Without ground the robot
+  // stands at the scanner's foot.
+  if (d_->has_frame) {
+    const RobotPose& pose = d_->result->map.robot_pose;
+    d_->robot_pose = {pose.x, pose.y, pose.yaw};
+  } else {
+    d_->robot_pose = {};
+  }
+  // A guessed heading is one the box fits in, not where the robot looks.
+  d_->pose_from_engine = d_->has_frame && d_->result->map.robot_heading_known;
   // A new robot size or new parameters keep the operator's camera; a new scan starts from the
   // operator's view.
   rebuild(same_scan);
