@@ -18,6 +18,11 @@ int runEval(const std::vector<std::string>& words) {
   // A folder mixing files of two runs (a re-run that failed half-way) is refused, not scored.
   verifyResultFolder(arguments.positional()[1]);
   const eval::SegmentationResult result = eval::loadSegmentationResult(arguments.positional()[1]);
+  // A truth scored against another scan's result (both of 7,200 points) gave numbers without a
+  // word: the names each file gives are compared, and a difference said (files may be renamed).
+  if (!truth.scan.empty() && !result.scan.empty() && truth.scan != result.scan)
+    std::cerr << "clearway-cli eval: caution: the truth is for '" << truth.scan
+              << "', the result for '" << result.scan << "'\n";
   const eval::Evaluation evaluation = eval::evaluate(truth, result, options);
   std::cout << (arguments.flag("json") ? eval::toJson(evaluation) + "\n"
                                        : eval::toText(evaluation));

@@ -1,6 +1,9 @@
 // Reading a `clearway-cli segment` output folder for evaluation.
 
+#include <Eigen/Geometry>
+#include <cmath>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <stdexcept>
@@ -8,6 +11,7 @@
 #include "clearway/eval/evaluation.h"
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_error.h"
+#include "clearway/traversability/traversability_map.h"
 
 namespace clearway::eval {
 namespace {
@@ -20,6 +24,12 @@ constexpr std::uint64_t kMaxLabelsImageBytes = 1ULL << 30;
 constexpr std::uint64_t kMaxPointClassBytes = 1ULL << 32;
 // A PGM comment line is skipped up to this many characters.
 constexpr std::streamsize kMaxCommentLength = 1 << 20;
+// A map cell is at least this and at most that [m]: anything else is no map Clearway wrote.
+constexpr double kSmallestCell = 1e-3, kLargestCell = 10.0;
+// How far map_from_scanner's rotation may be from orthonormal, per entry of R^T R - I.
+constexpr double kRotationTolerance = 1e-6;
+// How large a map coordinate (its origin) can be [m]: a scan's maps span metres to kilometres.
+constexpr double kFarthestOrigin = 1e6;
 
 std::vector<std::uint8_t> readPgm(const std::filesystem::path& file, int& width, int& height) {
   const std::string bytes = readWholeFile(file, kMaxLabelsImageBytes);
@@ -44,6 +54,27 @@ std::vector<std::uint8_t> readPgm(const std::filesystem::path& file, int& width,
   return {bytes.begin() + std::ptrdiff_t(offset), bytes.begin() + std::ptrdiff_t(offset + count)};
 }
 
+// The map frame a report gives: 16 finite numbers, a rotation and a translation (row major).
+Eigen::Isometry3d mapFromScanner(const std::vector<double>& matrix,
+                                 const std::function<void(const std::string&)>& fail) {
+  if (matrix.size() != 16) fail("map.map_from_scanner must have 16 numbers");
+  Eigen::Matrix4d m;
+  for (int i = 0; i < 16; ++i) {
+    if (!std::isfinite(matrix[std::size_t(i)]))
+      fail("map.map_from_scanner holds a non-finite number");
+    m(i / 4, i % 4) = matrix[std::size_t(i)];
+  }
+  const Eigen::Matrix3d rotation = m.topLeftCorner<3, 3>();
+  const bool rigid =
+      (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <=
+          kRotationTolerance &&
+      rotation.determinant() > 0.0 && m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1));
+  if (!rigid) fail("map.map_from_scanner is not a rotation and a translation");
+  Eigen::Isometry3d pose;
+  pose.matrix() = m;
+  return pose;
+}
+
 }  // namespace
 
 SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
@@ -51,42 +82,62 @@ SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
   std::ifstream stream(report_file);
   if (!stream)
     throw std::runtime_error(report_file.string() + ": cannot open (not a result folder?)");
+  // Values a writer bug or a hand edit put out of range were scored (a cell of 0 m, a map frame
+  // of zeros: "false traversable at (-nan, -nan, -nan)"): refused, naming the key.
+  const std::function<void(const std::string&)> fail = [&](const std::string& what) {
+    throw std::runtime_error(report_file.string() + ": " + what);
+  };
+  auto positive = [&](double value, const std::string& key) {
+    if (!(std::isfinite(value) && value > 0.0)) fail(key + " must be a positive number");
+    return value;
+  };
   SegmentationResult result;
   try {
     const json report = json::parse(stream);
+    result.scan = report.value("scan", "");
     result.ground_found = report.value("ground_found", false);
     if (report.contains("robot")) {
       const json& robot = report["robot"];
-      result.robot.width = robot.value("width", result.robot.width);
-      result.robot.length = robot.value("length", result.robot.length);
-      result.robot.height = robot.value("height", result.robot.height);
-      result.robot.max_step = robot.value("max_step", result.robot.max_step);
+      result.robot.width = positive(robot.value("width", result.robot.width), "robot.width");
+      result.robot.length = positive(robot.value("length", result.robot.length), "robot.length");
+      result.robot.height = positive(robot.value("height", result.robot.height), "robot.height");
+      result.robot.max_step =
+          positive(robot.value("max_step", result.robot.max_step), "robot.max_step");
     }
     for (const json& plane : report.value("planes", json::array())) {
       ResultPlane p;
       const auto n = plane.at("normal").get<std::vector<double>>();
-      if (n.size() != 3) throw std::runtime_error("plane normal must have 3 numbers");
-      p.normal = Eigen::Vector3d(n[0], n[1], n[2]).normalized();
+      if (n.size() != 3) fail("a plane's normal must have 3 numbers");
+      const Eigen::Vector3d normal(n[0], n[1], n[2]);
+      if (!normal.allFinite() || normal.norm() == 0.0) fail("a plane's normal is not a direction");
+      p.normal = normal.normalized();
       p.offset = plane.at("offset");
+      if (!std::isfinite(p.offset)) fail("a plane's offset is not finite");
       p.kind = plane.value("kind", "");
       result.planes.push_back(p);
     }
     if (report.contains("map")) {
       const json& map = report["map"];
       result.map.resolution = map.at("resolution");
+      if (!(result.map.resolution >= kSmallestCell && result.map.resolution <= kLargestCell))
+        fail("map.resolution must be a cell size of 0.001-10 m");
       const auto origin = map.at("origin").get<std::vector<double>>();
-      result.map.origin = {origin.at(0), origin.at(1)};
-      const auto matrix = map.at("map_from_scanner").get<std::vector<double>>();
-      if (matrix.size() != 16) throw std::runtime_error("map_from_scanner must have 16 numbers");
-      Eigen::Matrix4d m;
-      for (int i = 0; i < 16; ++i)
-        m(i / 4, i % 4) = matrix[std::size_t(i)];
-      result.map.map_from_scanner.matrix() = m;
-      result.map.labels = readPgm(folder / map.at("labels").get<std::string>(), result.map.width,
-                                  result.map.height);
+      if (origin.size() != 2 || !(std::abs(origin[0]) <= kFarthestOrigin) ||
+          !(std::abs(origin[1]) <= kFarthestOrigin))
+        fail("map.origin must be two finite numbers (metres)");
+      result.map.origin = {origin[0], origin[1]};
+      result.map.map_from_scanner =
+          mapFromScanner(map.at("map_from_scanner").get<std::vector<double>>(), fail);
+      const auto labels_file = folder / map.at("labels").get<std::string>();
+      result.map.labels = readPgm(labels_file, result.map.width, result.map.height);
       if (map.value("width", result.map.width) != result.map.width ||
           map.value("height", result.map.height) != result.map.height)
-        throw std::runtime_error("map size in report.json differs from the labels image");
+        fail("map size in report.json differs from the labels image");
+      for (const std::uint8_t label : result.map.labels)
+        if (label > std::uint8_t(CellLabel::kStairs))
+          throw std::runtime_error(labels_file.string() + ": label " + std::to_string(label) +
+                                   " is none of the map's labels (0-" +
+                                   std::to_string(int(CellLabel::kStairs)) + ")");
       result.has_map = true;
     }
     if (report.contains("point_classes")) {

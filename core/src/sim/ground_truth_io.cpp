@@ -12,6 +12,9 @@ namespace {
 
 using nlohmann::json;
 
+// The truth file's layout (its "version"): a file of another is refused, not misread.
+constexpr int kTruthVersion = 1;
+
 json vectorJson(const Eigen::Vector3d& v) {
   return json::array({v.x(), v.y(), v.z()});
 }
@@ -37,7 +40,7 @@ void saveGroundTruth(const GroundTruth& truth, const std::filesystem::path& file
                      const std::string& scan_file_name) {
   json document;
   document["format"] = "clearway-truth";
-  document["version"] = 1;
+  document["version"] = kTruthVersion;
   document["scan"] = utf8FileName(scan_file_name);  // JSON needs UTF-8; lossless for any bytes
   document["scene"] = sceneToJson(truth.scene);
   document["sensor"] = {{"lines", truth.sensor.lines},
@@ -97,7 +100,12 @@ GroundTruth loadGroundTruth(const std::filesystem::path& file) {
     const json document = json::parse(stream);
     if (document.value("format", "") != "clearway-truth")
       throw SceneError(file.string() + ": not a Clearway truth file");
+    // A newer layout would be read as this one, its changes unseen.
+    if (const int version = document.value("version", 0); version != kTruthVersion)
+      throw SceneError(file.string() + ": truth file version " + std::to_string(version) +
+                       "; this Clearway reads version " + std::to_string(kTruthVersion));
     GroundTruth truth;
+    truth.scan = document.value("scan", "");
     truth.scene = sceneFromJson(document.at("scene"));
     const json& sensor = document.at("sensor");
     truth.sensor.lines = sensor.at("lines");
@@ -112,7 +120,11 @@ GroundTruth loadGroundTruth(const std::filesystem::path& file) {
     truth.placement.position = vectorFrom(scanner.at("position"));
     truth.placement.axis = vectorFrom(scanner.at("axis"));
     truth.placement.axis_roll_deg = scanner.at("axis_roll_deg");
-    for (int c : document.at("classes").get<std::vector<int>>()) {
+    for (const json& value : document.at("classes")) {
+      // A class of 1.5 was read as 1: only whole numbers are classes.
+      if (!value.is_number_integer())
+        throw SceneError(file.string() + ": class " + value.dump() + " is not a whole number");
+      const auto c = value.get<std::int64_t>();
       if (c < 0 || c >= kPointClassCount) throw SceneError(file.string() + ": class out of range");
       truth.classes.push_back(PointClass(c));
     }

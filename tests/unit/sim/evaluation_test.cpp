@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <numbers>
@@ -159,6 +160,73 @@ TEST_F(Evaluate, BrokenResultFoldersAreRefused) {
   withMap(map, 0.85);
   test::writeBytes(directory_ / "labels.pgm", "P5\n160 60\n255\nshort");
   EXPECT_THROW(loadSegmentationResult(directory_.path()), std::runtime_error);
+}
+
+// Values no writer of Clearway's gives (a hand edit, a writer bug) were scored: a cell of 0 m,
+// a map frame of zeros ("false traversable at (-nan, -nan, -nan)"), a label of 200, an empty
+// origin ("vector::_M_range_check", naming neither file nor key). Each is refused by its key.
+TEST_F(Evaluate, ResultValuesOutOfRangeAreRefusedByName) {
+  HandMadeMap map;
+  withMap(map, 0.85);  // a good folder, edited below
+  const json good = json::parse(test::readBytes(directory_ / "report.json"));
+  auto refusal = [&](const std::function<void(json&)>& edit) {
+    json report = good;
+    edit(report);
+    test::writeBytes(directory_ / "report.json", report.dump());
+    try {
+      loadSegmentationResult(directory_.path());
+    } catch (const std::runtime_error& error) {
+      return std::string(error.what());
+    }
+    return std::string("loaded");
+  };
+  EXPECT_NE(refusal([](json& r) { r["map"]["resolution"] = 0.0; }).find("map.resolution"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& r) { r["map"]["resolution"] = -0.05; }).find("map.resolution"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& r) { r["map"]["origin"] = json::array(); }).find("map.origin"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& r) {
+              r["map"]["origin"] = {1e300, 0.0};
+            }).find("map.origin"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& r) {
+              r["map"]["map_from_scanner"] = std::vector<double>(16, 0.0);
+            }).find("map.map_from_scanner is not a rotation"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& r) { r["robot"]["width"] = -1.0; }).find("robot.width"),
+            std::string::npos);
+  EXPECT_EQ(refusal([](json&) {}), "loaded");
+  HandMadeMap odd;
+  odd.paint(0.0, -1.0, 1.0, 1.0, 200);
+  const std::string pgm = "P5\n" + std::to_string(odd.width) + " " + std::to_string(odd.height) +
+                          "\n255\n" + std::string(odd.cells.begin(), odd.cells.end());
+  test::writeBytes(directory_ / "labels.pgm", pgm);
+  EXPECT_NE(refusal([](json&) {}).find("label 200 is none of the map's labels"), std::string::npos);
+}
+
+// A class of 1.5 was read as class 1, a truth file of a later layout as this one.
+TEST_F(Evaluate, TruthValuesOutOfTheirLayoutAreRefused) {
+  const auto file = directory_ / "scan.truth.json";
+  sim::saveGroundTruth(simulated_.truth, file, "scan.pcd");
+  const json good = json::parse(test::readBytes(file));
+  auto refusal = [&](const std::function<void(json&)>& edit) {
+    json truth = good;
+    edit(truth);
+    test::writeBytes(file, truth.dump());
+    try {
+      sim::loadGroundTruth(file);
+    } catch (const std::exception& error) {
+      return std::string(error.what());
+    }
+    return std::string("loaded");
+  };
+  EXPECT_EQ(refusal([](json&) {}), "loaded");
+  EXPECT_EQ(sim::loadGroundTruth(file).scan, "scan.pcd");
+  EXPECT_NE(refusal([](json& t) { t["classes"][0] = 1.5; }).find("class 1.5 is not a whole number"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& t) { t["version"] = 99; }).find("truth file version 99"),
+            std::string::npos);
 }
 
 // Every planar truth surface as its own plane, its points assigned to it: the perfect segmentation.

@@ -38,6 +38,7 @@ struct ResultPlane {
 };
 
 struct SegmentationResult {
+  std::string scan;  // the scan's file name, as report.json gives it
   sim::RobotBox robot;
   std::vector<ResultPlane> planes;
   std::vector<PointClass> point_classes;  // empty when the folder has none

@@ -58,6 +58,7 @@ struct SurfaceTruth {
 };
 
 struct GroundTruth {
+  std::string scan;  // the scan's file name, as the truth file gives it (empty: not said)
   Scene scene;
   SensorModel sensor;
   ScannerPlacement placement;
