@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <set>
 #include <sstream>
 
 #include "clearway/io/scan_error.h"
@@ -164,6 +165,7 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
   std::vector<std::string> sizes, types, counts;
   bool has_points = false;
   bool has_data = false;
+  std::set<std::string> seen_keys;
   std::size_t position = 0;
   const std::string_view bytes = prefix;
   while (!has_data) {
@@ -178,6 +180,10 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     const std::vector<std::string> words = splitWords(line);
     if (words.empty() || words[0].starts_with('#')) continue;
     const std::string& key = words[0];
+    // A key given twice (two WIDTH lines) took its last value here and perhaps its first in
+    // another reader: which is meant, the file does not say.
+    if (!seen_keys.insert(key).second)
+      throw ScanError(file, "PCD header gives " + printableExcerpt(key.substr(0, 20)) + " twice");
     const std::vector<std::string> values(words.begin() + 1, words.end());
     if (key == "VERSION") {
     } else if (key == "FIELDS") {

@@ -97,7 +97,8 @@ TEST_F(MisreadFiles, BinaryPcdBodyLongerThanItsHeaderSays) {
 }
 
 // SIZE and COUNT of 2^32 + 4 were narrowed to 4 and passed the check; PCL then ran out of memory
-// ("std::bad_alloc"). A missing POINTS line failed in PCL as "corrupt or shorter".
+// ("std::bad_alloc"). A missing POINTS line failed in PCL as "corrupt or shorter"; a second WIDTH
+// line was taken over the first.
 TEST_F(MisreadFiles, PcdHeaderValuesThatWrapOrLack) {
   const std::string points = floatRecords(4, 3);
   EXPECT_NE(errorOf(write("size.pcd",
@@ -111,6 +112,10 @@ TEST_F(MisreadFiles, PcdHeaderValuesThatWrapOrLack) {
   std::string pointless = pcdHeader("x y z", "4 4 4", "F F F", 4, "binary");
   pointless.erase(pointless.find("POINTS"), std::string("POINTS 4\n").size());
   EXPECT_NE(errorOf(write("pointless.pcd", pointless + points)).find("has no POINTS line"),
+            std::string::npos);
+  std::string twice = pcdHeader("x y z", "4 4 4", "F F F", 4, "binary");
+  twice.insert(twice.find("HEIGHT"), "WIDTH 2\n");
+  EXPECT_NE(errorOf(write("twice.pcd", twice + points)).find("PCD header gives WIDTH twice"),
             std::string::npos);
 }
 
