@@ -245,6 +245,37 @@ class MainWindowTest : public QObject {
     QCOMPARE(failed.count(), 0);  // a cancel is no failure
   }
 
+  // A robot's re-run of a 1.1M-point scan showed "Done 100 %" beside a Cancel that did nothing.
+  // It names itself and stops when cancelled, leaving the previous robot's map as its title says.
+  void aRobotRerunReportsProgressAndCanBeCancelled() {
+    MainWindow window;
+    window.show();
+    const QString big = directory_.filePath("garage.pcd");
+    if (!QFile::exists(big)) simulate(directory_, "garage", 6000);
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    QSignalSpy cancelled(&window, &MainWindow::cancelShown);
+    QSignalSpy failed(&window, &MainWindow::failureShown);
+    window.openScan(big);
+    QVERIFY(shown.wait(kTimeoutMs));
+    const double old_width = window.shownResult().result->robot.width;
+    QSignalSpy progress(window.session(), &clearway::ui::SegmentationSession::progress);
+    clearway::RobotParams robot = window.session()->params().robot;
+    robot.width += 0.1;
+    window.session()->setRobot(robot);
+    QTRY_VERIFY_WITH_TIMEOUT(window.session()->busy(), kTimeoutMs);  // past the debounce
+    window.session()->cancel();
+    QTRY_VERIFY_WITH_TIMEOUT(cancelled.count() + shown.count() > 1, kTimeoutMs);
+    QCOMPARE(failed.count(), 0);
+    bool named = false;
+    for (const QList<QVariant>& signal : progress)
+      named = named || signal.at(1).toString() == "New robot";
+    QVERIFY(named);
+    if (cancelled.count() > 0) {
+      QCOMPARE(window.shownResult().result->robot.width, old_width);
+      QVERIFY(window.windowTitle().contains(QString::number(old_width, 'f', 2)));
+    }
+  }
+
   void closingTheWindowWhileAJobRunsIsSafe() {
     const QString big = directory_.filePath("garage.pcd");
     if (!QFile::exists(big)) simulate(directory_, "garage", 6000);

@@ -95,12 +95,18 @@ JobOutcome resegmentScan(SessionResult previous, const SegmentationParams& param
   return outcome;
 }
 
-JobOutcome rerun(SessionResult previous, const SegmentationParams& params, int threads) {
+JobOutcome rerun(SessionResult previous, const SegmentationParams& params, int threads,
+                 std::shared_ptr<JobControl> control) {
   JobOutcome outcome;
   outcome.result = previous;
   try {
-    outcome.result.result = std::make_shared<const PipelineResult>(
-        rerunForRobot(*previous.scan, previous.result->analysis, params, threads));
+    outcome.result.result = std::make_shared<const PipelineResult>(rerunForRobot(
+        *previous.scan, previous.result->analysis, params, threads, [control](double f) {
+          control->percent = int(100 * f);
+          return !control->cancel;
+        }));
+  } catch (const OperationCancelled&) {
+    outcome.cancelled = true;
   } catch (const std::exception& error) {
     outcome.error = QString::fromUtf8(error.what());
   }
@@ -117,6 +123,7 @@ struct SegmentationSession::Private {
   QTimer progress_timer;
   SessionResult current;
   bool robot_pending = false;
+  QString progress_label;  // what the progress bar names while progress_timer runs
 };
 
 SegmentationSession::SegmentationSession(QObject* parent)
@@ -127,7 +134,7 @@ SegmentationSession::SegmentationSession(QObject* parent)
   d_->progress_timer.setInterval(50);
 
   connect(&d_->progress_timer, &QTimer::timeout, this, [this] {
-    if (d_->control) emit progress(d_->control->percent, tr("Segmenting"));
+    if (d_->control) emit progress(d_->control->percent, d_->progress_label);
   });
   connect(&d_->load_watcher, &QFutureWatcher<JobOutcome>::finished, this, [this] {
     d_->progress_timer.stop();
@@ -151,13 +158,24 @@ SegmentationSession::SegmentationSession(QObject* parent)
       return;
     }
     d_->robot_pending = false;
+    // Reported and cancelled as a load is: a 10M-point scan's re-run takes seconds, and the bar
+    // said "Done 100 %" beside a Cancel that did nothing meanwhile.
+    d_->control = std::make_shared<JobControl>();
     emit busyChanged(true);
-    d_->robot_watcher.setFuture(QtConcurrent::run(rerun, d_->current, params_, threads_));
+    d_->progress_label = tr("New robot");
+    emit progress(0, d_->progress_label);
+    d_->progress_timer.start();
+    d_->robot_watcher.setFuture(
+        QtConcurrent::run(rerun, d_->current, params_, threads_, d_->control));
   });
   connect(&d_->robot_watcher, &QFutureWatcher<JobOutcome>::finished, this, [this] {
     const JobOutcome outcome = d_->robot_watcher.result();
+    if (!d_->load_watcher.isRunning()) d_->progress_timer.stop();
     emit busyChanged(busy());
-    if (!outcome.error.isEmpty()) {
+    if (outcome.cancelled) {
+      // The shown map stays the previous robot's, as its title says; no error to report.
+      if (outcome.result.scan == d_->current.scan) emit cancelled();
+    } else if (!outcome.error.isEmpty()) {
       emit failed(outcome.error);
     } else if (outcome.result.scan == d_->current.scan) {  // not a result for a scan since replaced
       d_->current = outcome.result;
@@ -180,6 +198,7 @@ void SegmentationSession::openScan(const QString& path) {
   d_->control = std::make_shared<JobControl>();
   d_->current = {};
   emit busyChanged(true);
+  d_->progress_label = tr("Segmenting");
   emit progress(0, tr("Loading"));
   d_->progress_timer.start();
   d_->load_watcher.setFuture(
@@ -193,7 +212,8 @@ void SegmentationSession::resegment() {
   d_->control = std::make_shared<JobControl>();
   d_->current = {};
   emit busyChanged(true);
-  emit progress(0, tr("Segmenting"));
+  d_->progress_label = tr("Segmenting");
+  emit progress(0, d_->progress_label);
   d_->progress_timer.start();
   d_->load_watcher.setFuture(
       QtConcurrent::run(resegmentScan, previous, params_, threads_, d_->control));
