@@ -70,9 +70,22 @@ Eigen::Isometry3d mapFromScanner(const std::vector<double>& matrix,
           kRotationTolerance &&
       rotation.determinant() > 0.0 && m.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1));
   if (!rigid) fail("map.map_from_scanner is not a rotation and a translation");
+  if (!(m.col(3).head<3>().norm() <= kFarthestOrigin))
+    fail("map.map_from_scanner moves the scanner more than 1000 km");
   Eigen::Isometry3d pose;
   pose.matrix() = m;
   return pose;
+}
+
+// A file the report names: a plain name in the result folder, which its manifest covers (a path
+// out of the folder scored a map no run wrote).
+std::filesystem::path fileInFolder(const std::filesystem::path& folder, const std::string& name,
+                                   const std::function<void(const std::string&)>& fail) {
+  const std::filesystem::path relative(name);
+  if (name.empty() || relative.has_parent_path() || relative.is_absolute() || name == "." ||
+      name == "..")
+    fail("'" + name + "' is not a file name in the result folder");
+  return folder / relative;
 }
 
 }  // namespace
@@ -101,8 +114,10 @@ SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
       result.robot.width = positive(robot.value("width", result.robot.width), "robot.width");
       result.robot.length = positive(robot.value("length", result.robot.length), "robot.length");
       result.robot.height = positive(robot.value("height", result.robot.height), "robot.height");
-      result.robot.max_step =
-          positive(robot.value("max_step", result.robot.max_step), "robot.max_step");
+      // A step of 0 is a robot that climbs nothing (`segment --max-step 0`).
+      result.robot.max_step = robot.value("max_step", result.robot.max_step);
+      if (!(result.robot.max_step >= 0.0 && std::isfinite(result.robot.max_step)))
+        fail("robot.max_step must be a number of at least 0");
     }
     for (const json& plane : report.value("planes", json::array())) {
       ResultPlane p;
@@ -128,7 +143,7 @@ SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
       result.map.origin = {origin[0], origin[1]};
       result.map.map_from_scanner =
           mapFromScanner(map.at("map_from_scanner").get<std::vector<double>>(), fail);
-      const auto labels_file = folder / map.at("labels").get<std::string>();
+      const auto labels_file = fileInFolder(folder, map.at("labels").get<std::string>(), fail);
       result.map.labels = readPgm(labels_file, result.map.width, result.map.height);
       if (map.value("width", result.map.width) != result.map.width ||
           map.value("height", result.map.height) != result.map.height)
@@ -141,10 +156,15 @@ SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
       result.has_map = true;
     }
     if (report.contains("point_classes")) {
-      const std::string bytes =
-          readWholeFile(folder / report["point_classes"].get<std::string>(), kMaxPointClassBytes);
-      for (unsigned char c : bytes) {
-        if (c >= kPointClassCount) throw std::runtime_error("point class out of range");
+      const auto classes_file =
+          fileInFolder(folder, report["point_classes"].get<std::string>(), fail);
+      const std::string bytes = readWholeFile(classes_file, kMaxPointClassBytes);
+      for (std::size_t i = 0; i < bytes.size(); ++i) {
+        const auto c = static_cast<unsigned char>(bytes[i]);
+        if (c >= kPointClassCount)
+          throw std::runtime_error(classes_file.string() + ": point " + std::to_string(i) +
+                                   " has class " + std::to_string(c) + ", none of 0-" +
+                                   std::to_string(kPointClassCount - 1));
         result.point_classes.push_back(PointClass(c));
       }
     }

@@ -116,6 +116,9 @@ void verifyResultFolder(const std::filesystem::path& folder) {
   try {
     manifest = nlohmann::json::parse(readWholeFile(manifest_file, 1 << 20));
     const std::string run_id = manifest.at("run_id").get<std::string>();
+    // A manifest of no files (`"files": {}`) vouched for a folder of any files.
+    if (!manifest.at("files").is_object() || !manifest.at("files").contains("report.json"))
+      throw ScanError(manifest_file, "does not list report.json: it vouches for nothing");
     for (const auto& [name, entry] : manifest.at("files").items()) {
       if (name.empty() || name.find('/') != std::string::npos || name == "." || name == "..")
         throw ScanError(manifest_file, "lists '" + name + "', which is not a file in the folder");

@@ -11,6 +11,8 @@
 #include "clearway/eval/evaluation.h"
 #include "clearway/eval/robot_fit.h"
 #include "clearway/eval/segmentation_accuracy.h"
+#include "clearway/io/result_manifest.h"
+#include "clearway/io/scan_error.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/ground_truth_io.h"
 #include "test_support.h"
@@ -196,6 +198,15 @@ TEST_F(Evaluate, ResultValuesOutOfRangeAreRefusedByName) {
             std::string::npos);
   EXPECT_NE(refusal([](json& r) { r["robot"]["width"] = -1.0; }).find("robot.width"),
             std::string::npos);
+  EXPECT_EQ(refusal([](json& r) { r["robot"]["max_step"] = 0.0; }), "loaded");  // climbs nothing
+  EXPECT_NE(refusal([](json& r) {
+              r["map"]["map_from_scanner"][3] = 1e300;
+            }).find("moves the scanner more than 1000 km"),
+            std::string::npos);
+  EXPECT_NE(refusal([](json& r) {
+              r["map"]["labels"] = "../elsewhere.pgm";
+            }).find("is not a file name in the result folder"),
+            std::string::npos);
   EXPECT_EQ(refusal([](json&) {}), "loaded");
   HandMadeMap odd;
   odd.paint(0.0, -1.0, 1.0, 1.0, 200);
@@ -203,6 +214,23 @@ TEST_F(Evaluate, ResultValuesOutOfRangeAreRefusedByName) {
                           "\n255\n" + std::string(odd.cells.begin(), odd.cells.end());
   test::writeBytes(directory_ / "labels.pgm", pgm);
   EXPECT_NE(refusal([](json&) {}).find("label 200 is none of the map's labels"), std::string::npos);
+}
+
+// A manifest of no files vouched for a folder of any files.
+TEST_F(Evaluate, AManifestMustVouchForTheReport) {
+  HandMadeMap map;
+  withMap(map, 0.85);
+  for (const char* files : {R"({})", R"([])"}) {
+    test::writeBytes(directory_ / kResultManifestName,
+                     std::string(R"({"run_id": "x", "files": )") + files + "}");
+    try {
+      verifyResultFolder(directory_.path());
+      ADD_FAILURE() << files << " vouched for the folder";
+    } catch (const ScanError& error) {
+      EXPECT_NE(std::string(error.what()).find("does not list report.json"), std::string::npos)
+          << error.what();
+    }
+  }
 }
 
 // A class of 1.5 was read as class 1, a truth file of a later layout as this one.
