@@ -10,6 +10,7 @@
 
 #include "clearway/io/file_util.h"
 #include "clearway/io/scan_error.h"
+#include "io/strict_json.h"
 
 namespace clearway {
 namespace {
@@ -71,6 +72,15 @@ std::string_view poseSourceName(PoseSource source) {
   return "none";
 }
 
+std::optional<Eigen::Vector3d> unitDirection(const Eigen::Vector3d& v, double smallest) {
+  if (!v.allFinite()) return std::nullopt;
+  const double largest = v.cwiseAbs().maxCoeff();
+  if (largest == 0.0) return std::nullopt;
+  const Eigen::Vector3d scaled = v / largest;  // within [-1, 1]: its norm cannot overflow
+  if (largest * scaled.norm() < smallest) return std::nullopt;
+  return scaled.normalized();
+}
+
 bool unitQuaternion(std::array<double, 4>& q, double smallest) {
   double largest = 0.0;
   for (const double component : q) {
@@ -113,9 +123,9 @@ SensorPose parsePoseText(const std::string& text) {
 
 Eigen::Vector3d parseUpText(const std::string& text) {
   const std::vector<double> v = parseNumberList(text, 3, "--up X,Y,Z");
-  const Eigen::Vector3d up(v[0], v[1], v[2]);
-  if (up.norm() < 1e-9) throw std::invalid_argument("--up X,Y,Z: the direction has zero length");
-  return up.normalized();
+  const auto up = unitDirection({v[0], v[1], v[2]});
+  if (!up) throw std::invalid_argument("--up X,Y,Z: the direction has zero length");
+  return *up;
 }
 
 SensorPose poseFromUp(const Eigen::Vector3d& up) {
@@ -139,8 +149,11 @@ std::optional<std::filesystem::path> findPoseSidecar(const std::filesystem::path
   kept += ".pose.json";
   std::vector<std::filesystem::path> found;
   for (const auto& candidate : {replaced, kept}) {
+    // The link itself, not what it points to: a sidecar that is a broken link or a link loop is
+    // a sidecar that cannot be read (readPoseSidecar says why), not no sidecar at all.
     std::error_code error;
-    if (std::filesystem::exists(candidate, error)) found.push_back(candidate);
+    if (std::filesystem::exists(std::filesystem::symlink_status(candidate, error)))
+      found.push_back(candidate);
   }
   // Two poses for one scan: which one is right is the operator's to say, not ours to pick.
   if (found.size() == 2)
@@ -153,31 +166,18 @@ std::optional<std::filesystem::path> findPoseSidecar(const std::filesystem::path
 namespace {
 
 constexpr int kSidecarVersion = 1;
+// How far from the origin a sidecar may put the scanner [m]: as far as any scanner measures.
+constexpr double kFarthestSidecarTranslation = 10'000.0;
+// How far from 1 a sidecar's quaternion may be long: rounding in the writer's digits.
+constexpr double kQuaternionLengthTolerance = 1e-3;
 
-// The sidecar's JSON, refusing a key given twice in one object (the parser keeps the last, and a
-// second "rotation_wxyz" turned the scan over without a word).
+// The sidecar's JSON, refusing a key given twice in one object (parseStrictJson).
 nlohmann::json parseSidecar(const std::filesystem::path& file, const std::string& text) {
-  std::vector<std::vector<std::string>> keys_of_open_objects;
-  std::string repeated;
-  const nlohmann::json::parser_callback_t check_keys = [&](int, nlohmann::json::parse_event_t event,
-                                                           nlohmann::json& parsed) {
-    if (event == nlohmann::json::parse_event_t::object_start) {
-      keys_of_open_objects.emplace_back();
-    } else if (event == nlohmann::json::parse_event_t::object_end &&
-               !keys_of_open_objects.empty()) {
-      keys_of_open_objects.pop_back();
-    } else if (event == nlohmann::json::parse_event_t::key && !keys_of_open_objects.empty()) {
-      std::vector<std::string>& keys = keys_of_open_objects.back();
-      const std::string key = parsed.get<std::string>();
-      if (std::find(keys.begin(), keys.end(), key) != keys.end() && repeated.empty())
-        repeated = key;
-      keys.push_back(key);
-    }
-    return true;
-  };
-  nlohmann::json json = nlohmann::json::parse(text, check_keys);
-  if (!repeated.empty()) throw ScanError(file, "the key \"" + repeated + "\" is given twice");
-  return json;
+  try {
+    return detail::parseStrictJson(text);
+  } catch (const std::invalid_argument& error) {
+    throw ScanError(file, error.what());
+  }
 }
 
 // `count` finite numbers under `key` of `object`.
@@ -226,6 +226,16 @@ SensorPose readPoseSidecar(const std::filesystem::path& file) {
   const nlohmann::json& pose = json.at("world_from_scanner");
   const std::vector<double> t = numbers(file, pose, "translation", 3);
   const std::vector<double> q = numbers(file, pose, "rotation_wxyz", 4);
+  // The scanner's place on a robot or in a room: metres, not 1e308 (the 3D view went blank, the
+  // robot off the map, every cell out of reach, the panel saying "Ground found").
+  if (!(Eigen::Vector3d(t[0], t[1], t[2]).cwiseAbs().maxCoeff() <= kFarthestSidecarTranslation))
+    throw ScanError(file, "\"translation\" puts the scanner more than 10 km away");
+  // Writers give a unit quaternion; one of length 2 or 1e-8 is a wrong one, not rounding (the
+  // journal's POSE record is held to the same).
+  const double length = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
+  if (!(std::abs(length - 1.0) <= kQuaternionLengthTolerance))
+    throw ScanError(file, "\"rotation_wxyz\" has length " + std::to_string(length) +
+                              ", not 1: not a rotation as written");
   try {
     return poseFromQuaternion({t[0], t[1], t[2]}, q[0], q[1], q[2], q[3]);
   } catch (const std::invalid_argument& error) {

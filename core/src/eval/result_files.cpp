@@ -22,6 +22,8 @@ using nlohmann::json;
 // 30 km x 30 km at 5 cm, a per-point class file of 4 GiB a scan of 4 billion points.
 constexpr std::uint64_t kMaxLabelsImageBytes = 1ULL << 30;
 constexpr std::uint64_t kMaxPointClassBytes = 1ULL << 32;
+// report.json is kilobytes (its planes and parameters).
+constexpr std::uint64_t kMaxReportBytes = 64ULL << 20;
 // A PGM comment line is skipped up to this many characters.
 constexpr std::streamsize kMaxCommentLength = 1 << 20;
 // A map cell is at least this and at most that [m]: anything else is no map Clearway wrote.
@@ -92,9 +94,12 @@ std::filesystem::path fileInFolder(const std::filesystem::path& folder, const st
 
 SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
   const auto report_file = folder / "report.json";
-  std::ifstream stream(report_file);
-  if (!stream)
-    throw std::runtime_error(report_file.string() + ": cannot open (not a result folder?)");
+  std::string report_text;
+  try {
+    report_text = readWholeFile(report_file, kMaxReportBytes);  // not a pipe, a folder, a device
+  } catch (const ScanError& error) {
+    throw std::runtime_error(std::string(error.what()) + " (not a result folder?)");
+  }
   // Values a writer bug or a hand edit put out of range were scored (a cell of 0 m, a map frame
   // of zeros: "false traversable at (-nan, -nan, -nan)"): refused, naming the key.
   const std::function<void(const std::string&)> fail = [&](const std::string& what) {
@@ -106,7 +111,7 @@ SegmentationResult loadSegmentationResult(const std::filesystem::path& folder) {
   };
   SegmentationResult result;
   try {
-    const json report = json::parse(stream);
+    const json report = json::parse(report_text);
     result.scan = report.value("scan", "");
     result.ground_found = report.value("ground_found", false);
     if (report.contains("robot")) {

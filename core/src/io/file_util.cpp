@@ -15,6 +15,18 @@
 namespace clearway {
 namespace fs = std::filesystem;
 
+void requireRegularFile(const fs::path& file) {
+  std::error_code error;
+  const fs::file_status status = fs::status(file, error);
+  // A symbolic link loop or a folder without permission is not "no such file".
+  if (error && error != std::errc::no_such_file_or_directory)
+    throw ScanError(file, "cannot reach it: " + error.message());
+  if (!fs::exists(status)) throw ScanError(file, "no such file");
+  if (fs::is_directory(status)) throw ScanError(file, "is a directory, not a file to read");
+  if (!fs::is_regular_file(status))
+    throw ScanError(file, "not a regular file (a device, a pipe or a socket)");
+}
+
 std::string readWholeFile(const fs::path& file, std::uintmax_t max_bytes) {
   detail::checkIsAScanFile(file);
   std::error_code error;

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "clearway/io/file_util.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/io/scan_lines.h"
 #include "readers.h"
@@ -14,16 +15,7 @@ namespace clearway {
 namespace detail {
 
 void checkIsAScanFile(const std::filesystem::path& file) {
-  std::error_code error;
-  const std::filesystem::file_status status = std::filesystem::status(file, error);
-  // A symbolic link loop or a folder without permission is not "no such file".
-  if (error && error != std::errc::no_such_file_or_directory)
-    throw ScanError(file, "cannot reach it: " + error.message());
-  if (!std::filesystem::exists(status)) throw ScanError(file, "no such file");
-  if (std::filesystem::is_directory(status))
-    throw ScanError(file, "is a directory, not a scan file");
-  if (!std::filesystem::is_regular_file(status))
-    throw ScanError(file, "not a regular file (a device, a pipe or a socket), not a scan file");
+  requireRegularFile(file);
 }
 
 std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,

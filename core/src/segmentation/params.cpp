@@ -1,5 +1,6 @@
 #include "clearway/segmentation/params.h"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -7,9 +8,12 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <string_view>
 #include <variant>
 
+#include "../io/strict_json.h"
 #include "clearway/io/file_util.h"
+#include "clearway/io/scan_error.h"
 
 namespace clearway {
 namespace {
@@ -249,9 +253,16 @@ SegmentationParams paramsFromJson(const nlohmann::json& json) {
   if (!json.is_object()) throw std::invalid_argument("parameters must be a JSON object");
   SegmentationParams params;
   for (const auto& [section, values] : json.items()) {
+    // Named as what it is: "'robto' must be an object" sent the reader to the wrong fault.
+    const bool known_section = std::any_of(entries().begin(), entries().end(), [&](const Entry& e) {
+      return std::string_view(e.key).starts_with(section + ".");
+    });
+    if (!known_section) throw std::invalid_argument("unknown parameter section '" + section + "'");
     if (!values.is_object()) throw std::invalid_argument("'" + section + "' must be an object");
     for (const auto& [name, value] : values.items()) {
       const std::string key = section + "." + name;
+      if ((key == "lines.method" || key == "robot.name") && !value.is_string())
+        throw std::invalid_argument(key + " must be text, not " + value.dump());
       if (key == "lines.method") {
         const std::string method = value.get<std::string>();
         if (method == "hough")
@@ -266,6 +277,7 @@ SegmentationParams paramsFromJson(const nlohmann::json& json) {
         params.robot.name = value.get<std::string>();
         continue;
       }
+      entryFor(key);  // "unknown parameter", before what its value is (not "must be a number")
       if (!value.is_number()) throw std::invalid_argument(key + " must be a number");
       setParameterValue(params, key, value.get<double>());
     }
@@ -273,11 +285,19 @@ SegmentationParams paramsFromJson(const nlohmann::json& json) {
   return params;
 }
 
+// A parameter file is a few kilobytes; one much larger is something else.
+constexpr std::uintmax_t kLargestParamsFile = 1 << 20;
+
 SegmentationParams loadParams(const std::filesystem::path& file) {
-  std::ifstream stream(file);
-  if (!stream) throw std::invalid_argument(file.string() + ": cannot open the parameter file");
+  std::string text;
   try {
-    SegmentationParams params = paramsFromJson(nlohmann::json::parse(stream));
+    // A pipe waited for ever and a folder said "basic_filebuf::underflow" without the file's name.
+    text = readWholeFile(file, kLargestParamsFile);
+  } catch (const ScanError& error) {
+    throw std::invalid_argument(error.what());
+  }
+  try {
+    SegmentationParams params = paramsFromJson(detail::parseStrictJson(text));
     if (const auto reasons = params.validate(); !reasons.empty())
       throw std::invalid_argument(reasons.front());
     return params;

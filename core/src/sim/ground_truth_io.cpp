@@ -5,12 +5,16 @@
 
 #include "clearway/io/file_util.h"
 #include "clearway/io/result_manifest.h"
+#include "clearway/io/scan_error.h"
 #include "clearway/sim/scene_io.h"
 
 namespace clearway::sim {
 namespace {
 
 using nlohmann::json;
+
+// A truth file holds a class and a surface per point: a few hundred MB for 10M points.
+constexpr std::uintmax_t kLargestTruthFile = 4ULL << 30;
 
 // The truth file's layout (its "version"): a file of another is refused, not misread.
 constexpr int kTruthVersion = 1;
@@ -94,10 +98,14 @@ void saveGroundTruth(const GroundTruth& truth, const std::filesystem::path& file
 }
 
 GroundTruth loadGroundTruth(const std::filesystem::path& file) {
-  std::ifstream stream(file);
-  if (!stream) throw SceneError(file.string() + ": cannot open the truth file");
+  std::string text;
   try {
-    const json document = json::parse(stream);
+    text = readWholeFile(file, kLargestTruthFile);  // not a pipe, a folder or a device
+  } catch (const ScanError& error) {
+    throw SceneError(error.what());
+  }
+  try {
+    const json document = json::parse(text);
     if (document.value("format", "") != "clearway-truth")
       throw SceneError(file.string() + ": not a Clearway truth file");
     // A newer layout would be read as this one, its changes unseen.

@@ -4,6 +4,8 @@
 #include <nlohmann/json.hpp>
 
 #include "clearway/io/file_util.h"
+#include "clearway/io/scan_error.h"
+#include "clearway/pose.h"
 
 namespace clearway::sim {
 namespace {
@@ -43,7 +45,8 @@ Scene sceneFromJson(const json& document) {
     if (scanner->contains("position"))
       scene.scanner_position = vector3((*scanner)["position"], "scanner.position");
     if (scanner->contains("axis")) scene.scanner_axis = vector3((*scanner)["axis"], "scanner.axis");
-    if (scene.scanner_axis.norm() < 1e-9) throw SceneError("scanner.axis must not be zero");
+    // Kept as written (the shipped scenes' [1, 0, -0.3]); the simulator makes it a unit vector.
+    if (!unitDirection(scene.scanner_axis)) throw SceneError("scanner.axis must not be zero");
   }
   if (!document.contains("primitives") || !document["primitives"].is_array())
     throw SceneError("a scene needs a 'primitives' array");
@@ -130,11 +133,18 @@ json sceneToJson(const Scene& scene) {
   return document;
 }
 
+// A scene file is kilobytes; one much larger is something else.
+constexpr std::uintmax_t kLargestSceneFile = 64 << 20;
+
 Scene loadScene(const std::filesystem::path& file) {
-  std::ifstream stream(file);
-  if (!stream) throw SceneError(file.string() + ": cannot open the scene file");
+  std::string text;
   try {
-    return sceneFromJson(json::parse(stream));
+    text = readWholeFile(file, kLargestSceneFile);  // not a pipe, a folder or a device
+  } catch (const ScanError& error) {
+    throw SceneError(error.what());
+  }
+  try {
+    return sceneFromJson(json::parse(text));
   } catch (const json::parse_error& error) {
     throw SceneError(file.string() + ": not valid JSON (" + error.what() + ")");
   } catch (const json::exception& error) {

@@ -61,7 +61,7 @@ TEST_F(BadInput, Directory) {
   expectScanError(directory / "folder.pcd", "directory");
   // Named for what it is, not for its missing extension.
   std::filesystem::create_directory(directory / "folder");
-  expectScanError(directory / "folder", "is a directory, not a scan file");
+  expectScanError(directory / "folder", "is a directory, not a file to read");
 }
 
 // A pipe or a device named like a scan, and a link loop, said as such (they read "cannot read its

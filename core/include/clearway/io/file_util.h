@@ -8,6 +8,11 @@
 
 namespace clearway {
 
+// Throws ScanError unless `file` is a regular file (or a link to one): missing, unreachable (a
+// link loop), a directory, or a pipe, device or socket, which a reader would wait on for ever or
+// read without end.
+void requireRegularFile(const std::filesystem::path& file);
+
 // Reads a whole regular file. Throws ScanError for a missing, unreadable or non-regular file, an
 // empty one, or one larger than `max_bytes`.
 std::string readWholeFile(const std::filesystem::path& file, std::uintmax_t max_bytes);
