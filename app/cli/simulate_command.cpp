@@ -8,6 +8,7 @@
 
 #include "arguments.h"
 #include "clearway/io/scan_io.h"
+#include "clearway/pose.h"
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/ground_truth_io.h"
 #include "clearway/sim/rosi_simulator.h"
@@ -31,9 +32,9 @@ Eigen::Vector3d parseAxis(const std::string& text) {
   if (text == "down") return -Eigen::Vector3d::UnitZ();
   if (text == "forward") return Eigen::Vector3d::UnitX();
   if (text == "side") return Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d axis = parseVector("axis", text);
-  if (axis.norm() < 1e-9) throw UsageError("--axis must not be zero");
-  return axis;
+  const auto axis = unitDirection(parseVector("axis", text));
+  if (!axis) throw UsageError("--axis must not be zero");
+  return *axis;
 }
 
 const std::set<std::string> kSceneOptions = {"door-width", "door-height", "ramp-slope",

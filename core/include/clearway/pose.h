@@ -44,6 +44,11 @@ Eigen::Vector3d parseUpText(const std::string& text);
 // A pose whose world z is `up` (a unit vector in the scanner frame), yaw chosen from the scanner's
 // x axis: what an up direction alone says about world_from_scanner.
 SensorPose poseFromUp(const Eigen::Vector3d& up);
+// `v` scaled to unit length, or nullopt when it is not finite or shorter than `smallest`. Divided
+// by its largest component first: the norm of components of 1e200 overflowed, and `--up 1e200,0,0`
+// became the zero vector, accepted.
+std::optional<Eigen::Vector3d> unitDirection(const Eigen::Vector3d& v, double smallest = 1e-9);
+
 // Throws std::invalid_argument when (qw, qx, qy, qz) is zero or not finite (unitQuaternion).
 SensorPose poseFromQuaternion(const Eigen::Vector3d& translation, double qw, double qx, double qy,
                               double qz);

@@ -9,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "clearway/pose.h"
 #include "clearway/sim/ray_caster.h"
 
 namespace clearway::sim {
@@ -30,7 +31,8 @@ int SensorModel::linesForSpeed(double degrees_per_second) {
 }
 
 Eigen::Isometry3d ScannerPlacement::worldFromScanner() const {
-  const Eigen::Vector3d z = axis.normalized();
+  // Scaled first: an axis of 1e300 components overflowed its norm into a zero vector.
+  const Eigen::Vector3d z = unitDirection(axis).value_or(Eigen::Vector3d::UnitZ());
   // beta = 0 points "up" where the axis allows it, else along world x.
   Eigen::Vector3d reference = Eigen::Vector3d::UnitZ();
   if (std::abs(z.dot(reference)) > 0.95) reference = Eigen::Vector3d::UnitX();
