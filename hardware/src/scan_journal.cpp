@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "clearway/io/file_util.h"
 #include "clearway/io/scan_error.h"
 #include "scan_assembler.h"
 
@@ -19,6 +20,9 @@ constexpr const char* kMagic = "CLEARWAY-JOURNAL 1";
 constexpr double kMillimetres = 1000.0;
 // A journal line holds at most 180 ranges of 6 characters: anything much longer is corrupt.
 constexpr std::size_t kMaxRecord = 4096;
+// No LMS200 range reaches this far (81.91 m in its centimetre mode) [mm]: a larger one is no
+// measurement (99999999999999999999 overflowed and was read).
+constexpr long kFarthestRangeMm = 100'000;
 
 }  // namespace
 
@@ -171,6 +175,8 @@ PoseReading parsePoseRecord(std::istringstream& words, const std::filesystem::pa
     corrupt(file, number, "a POSE record needs a source, 7 numbers, tilt, roll and a time");
   reading.world_from_scanner.translation = {v[0], v[1], v[2]};
   reading.world_from_scanner.rotation = Eigen::Quaterniond(v[3], v[4], v[5], v[6]);
+  reading.source = printableText(reading.source);
+  reading.time = printableText(reading.time);  // written into JSON, which needs UTF-8
   if (!reading.world_from_scanner.translation.allFinite() ||
       std::abs(reading.world_from_scanner.rotation.norm() - 1.0) > 1e-3)
     corrupt(file, number, "the POSE is not a finite rigid transform");
@@ -188,6 +194,7 @@ PoseReading parsePoseRecord(std::istringstream& words, const std::filesystem::pa
 }  // namespace
 
 Acquisition recoverJournal(const std::filesystem::path& file) {
+  requireRegularFile(file);  // a pipe waited for ever, /dev/zero filled the memory
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ScanError(file, std::string("cannot open the journal: ") + std::strerror(errno));
   std::string text;
@@ -199,24 +206,34 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
   std::optional<detail::ScanAssembler> assembler;
   std::size_t number = 1;
   bool ended = false;
+  int target = 0;
+  bool measured = false;  // an angle, line or dropped-line record was read
   while (std::getline(in, text)) {
     ++number;
     // A last line without its '\n' was cut by the crash: ignore it.
     if (in.eof()) break;
     if (text.size() > kMaxRecord) corrupt(file, number, "overlong record");
+    // The journal is written in one order: TARGET, POSE, the scan's records, END. A record out
+    // of it was taken as it came (a second TARGET dropped the lines before it, a POSE after the
+    // lines replaced the pose the scan started with, records after END were added).
+    if (ended) corrupt(file, number, "a record after END");
     std::istringstream words(text);
     std::string kind;
     words >> kind;
     if (kind == "TARGET") {
-      int target = 0;
+      if (assembler) corrupt(file, number, "a second TARGET");
       if (!(words >> target) || target < 0) corrupt(file, number, "TARGET needs a line count");
       assembler.emplace(target);
       continue;
     }
     if (!assembler) corrupt(file, number, "records before TARGET");
     if (kind == "POSE") {
+      if (result.pose || measured) corrupt(file, number, "a POSE after the scan's first records");
       result.pose = parsePoseRecord(words, file, number);
-    } else if (kind == "A") {
+      continue;
+    }
+    measured = measured || kind == "A" || kind == "L" || kind == "D";
+    if (kind == "A") {
       turntable::AngleSample sample;
       std::int64_t millidegrees = 0;
       if (!(words >> sample.time_us >> millidegrees) || millidegrees < 0 || millidegrees >= 360000)
@@ -235,8 +252,11 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
           continue;
         }
         char* end = nullptr;
+        errno = 0;
         const long millimetres = std::strtol(value.c_str(), &end, 10);
         if (*end != '\0' || millimetres < 0) corrupt(file, number, "a range is not a number");
+        if (errno == ERANGE || millimetres > kFarthestRangeMm)
+          corrupt(file, number, "a range of " + value + " mm, beyond any LMS200's reach");
         ranges.emplace_back(double(millimetres) / kMillimetres);
       }
       if (ranges.size() != std::size_t(detail::kRosiPoints))
@@ -255,6 +275,7 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
       words >> state;
       result.complete = state == "complete";
       std::getline(words >> std::ws, result.error);
+      result.error = printableText(result.error);  // written into JSON, which needs UTF-8
       ended = true;
     } else {
       corrupt(file, number, "unknown record '" + kind + "'");
@@ -271,6 +292,13 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
                    ": the acquisition ended without "
                    "finishing (crash or kill) after " +
                    std::to_string(result.lines_received) + " lines";
+  // "END complete" over fewer lines than the target is not a complete scan (159 of 400 lines were
+  // recovered as complete).
+  if (result.complete && result.lines_received < std::size_t(target)) {
+    result.error = "the journal ends 'complete' after " + std::to_string(result.lines_received) +
+                   " of its " + std::to_string(target) + " lines";
+    result.complete = false;
+  }
   result.complete = result.complete && result.dropped_lines == 0 && ended;
   return result;
 }

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -117,6 +119,60 @@ TEST_F(JournalFolder, WhatIsNoJournalIsRefusedByName) {
     FAIL() << "accepted";
   } catch (const ScanError& error) {
     EXPECT_NE(std::string(error.what()).find("line 3"), std::string::npos) << error.what();
+  }
+}
+
+// A journal is written in one order (TARGET, POSE, the scan's records, END). Recovery took what
+// it found: "END complete" after 49 of 80 lines was a complete scan, records after END and a
+// second TARGET were read, a range of 10^20 mm overflowed into a number, a pipe was waited on
+// for ever, and a byte that is not UTF-8 in END's reason broke the JSON written after the scan.
+TEST_F(JournalFolder, AJournalOutOfItsOrderOrRangeIsNotTakenAsItComes) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.lines = 80;
+  options.journal = folder_ / "scan.journal";
+  ASSERT_TRUE(acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options).complete);
+  const std::string text = readAll(options.journal);
+  const std::size_t end_record = text.rfind("END ");
+  ASSERT_NE(end_record, std::string::npos);
+  auto recoverFrom = [&](const std::string& journal) {
+    { std::ofstream(options.journal, std::ios::binary | std::ios::trunc) << journal; }
+    return recoverJournal(options.journal);
+  };
+  auto refusal = [&](const std::string& journal) {
+    try {
+      recoverFrom(journal);
+    } catch (const ScanError& error) {
+      return std::string(error.what());
+    }
+    return std::string("recovered");
+  };
+  std::size_t at = 0;
+  for (int lines = 0; lines < 50; ++lines)
+    at = text.find("\nL ", at + 1);
+  const Acquisition cut = recoverFrom(text.substr(0, at + 1) + "END complete\n");
+  EXPECT_FALSE(cut.complete);
+  EXPECT_NE(cut.error.find("ends 'complete' after 49 of its 80 lines"), std::string::npos)
+      << cut.error;
+  EXPECT_NE(refusal(text + "A 1 2\n").find("a record after END"), std::string::npos);
+  const std::size_t first_line = text.find("\nL ");
+  EXPECT_NE(refusal(text.substr(0, first_line + 1) + "TARGET 80\n" + text.substr(first_line + 1))
+                .find("a second TARGET"),
+            std::string::npos);
+  std::string far = text;
+  const std::size_t range = far.find(' ', far.find(' ', first_line + 3) + 1) + 1;
+  far.replace(range, far.find(' ', range) - range, "99999999999999999999");
+  EXPECT_NE(refusal(far).find("beyond any LMS200's reach"), std::string::npos) << refusal(far);
+  const Acquisition odd = recoverFrom(text.substr(0, end_record) + "END failed \xFF\x1b[2J\n");
+  EXPECT_EQ(odd.error.find('\xFF'), std::string::npos);
+  EXPECT_EQ(odd.error.find('\x1b'), std::string::npos);
+  const fs::path pipe = folder_ / "pipe.journal";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0600), 0);
+  try {
+    recoverJournal(pipe);
+    FAIL() << "a pipe was read";
+  } catch (const ScanError& error) {
+    EXPECT_NE(std::string(error.what()).find("not a regular file"), std::string::npos);
   }
 }
 
