@@ -11,6 +11,7 @@
 #include <QSslCipher>
 #include <QSslConfiguration>
 #include <QSslSocket>
+#include <algorithm>
 
 namespace clearway::hardware::remote {
 namespace {
@@ -51,6 +52,8 @@ QJsonObject readJson(const QString& path, const QString& role) {
   QFile file(path);
   if (!file.exists())
     failOn(path, "does not exist (create credentials with serve --init-credentials)");
+  // A pipe waited for ever: only a plain file is read.
+  if (!QFileInfo(path).isFile()) failOn(path, "is not a plain file");
   if (!file.open(QIODevice::ReadOnly)) failOn(path, "cannot be read: " + file.errorString());
   if (file.size() > kMaxCredentialsBytes) failOn(path, "is too large to be a credentials file");
   QJsonParseError error;
@@ -59,6 +62,7 @@ QJsonObject readJson(const QString& path, const QString& role) {
   const QJsonObject object = document.object();
   if (object.value("clearway_credentials").toInt() != kFormatVersion)
     failOn(path, "is not a Clearway credentials file of version 1");
+  if (!object.value("role").isString()) failOn(path, "says no \"role\" (robot or console)");
   if (object.value("role").toString() != role)
     failOn(path, "holds the " + object.value("role").toString() + "'s credentials, not the " +
                      role + "'s");
@@ -68,8 +72,19 @@ QJsonObject readJson(const QString& path, const QString& role) {
 ConsoleKey keyFrom(const QString& path, const QJsonObject& object) {
   ConsoleKey key;
   key.identity = object.value("identity").toString().toUtf8();
-  key.key = QByteArray::fromHex(object.value("key").toString().toLatin1());
+  const QString hex = object.value("key").toString();
   if (key.identity.isEmpty()) failOn(path, "has no identity");
+  // fromHex skips what is not a hex digit and takes an odd last digit: a key with stray
+  // characters connected, one of 63 digits failed only at the handshake.
+  const bool hex_digits = std::all_of(hex.begin(), hex.end(), [](QChar c) {
+    return c.isDigit() || (c.toLower() >= QChar('a') && c.toLower() <= QChar('f'));
+  });
+  if (!hex_digits || hex.size() != 2 * kPreSharedKeyBytes)
+    failOn(path, QString("has a key of %1 characters%2; it must be %3 hex digits")
+                     .arg(hex.size())
+                     .arg(hex_digits ? "" : ", not all hex digits")
+                     .arg(2 * kPreSharedKeyBytes));
+  key.key = QByteArray::fromHex(hex.toLatin1());
   if (key.key.size() != kPreSharedKeyBytes)
     failOn(path, QString("has a key of %1 bytes; it must be %2 bytes as 64 hex digits")
                      .arg(key.key.size())
@@ -110,8 +125,14 @@ RobotCredentials loadRobotCredentials(const QString& dir_or_file) {
   const QJsonObject object = readJson(path, "robot");
   RobotCredentials credentials;
   credentials.identity_hint = object.value("identity_hint").toString("clearway-robot").toUtf8();
-  for (const QJsonValue& console : object.value("consoles").toArray())
-    credentials.consoles.push_back(keyFrom(path, console.toObject()));
+  for (const QJsonValue& console : object.value("consoles").toArray()) {
+    ConsoleKey key = keyFrom(path, console.toObject());
+    // One identity, two keys: the first was used without a word.
+    for (const ConsoleKey& earlier : credentials.consoles)
+      if (earlier.identity == key.identity)
+        failOn(path, "names the console '" + QString::fromUtf8(key.identity) + "' twice");
+    credentials.consoles.push_back(std::move(key));
+  }
   if (credentials.consoles.empty()) failOn(path, "names no console that may connect");
   return credentials;
 }

@@ -239,7 +239,24 @@ TEST(RemoteCredentials, BadFilesAreNamedWithTheProblem) {
   file.close();
   const std::string short_key = messageFor(loadConsoleCredentials, dir.path());
   EXPECT_NE(short_key.find("console.json"), std::string::npos) << short_key;
-  EXPECT_NE(short_key.find("2 bytes"), std::string::npos) << short_key;
+  EXPECT_NE(short_key.find("a key of 4 characters; it must be 64 hex digits"), std::string::npos)
+      << short_key;
+  // fromHex skipped what is not a hex digit: a key with stray characters connected, one of 63
+  // digits failed only at the handshake.
+  const std::string hex64(64, 'a');
+  for (const std::string& key : {hex64.substr(0, 63), hex64.substr(0, 62) + "zz"}) {
+    ASSERT_TRUE(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+    file.write(QByteArray::fromStdString(
+        R"({"clearway_credentials":1,"role":"console","identity":"c","key":")" + key + R"("})"));
+    file.close();
+    const std::string message = messageFor(loadConsoleCredentials, dir.path());
+    EXPECT_NE(message.find("it must be 64 hex digits"), std::string::npos) << message;
+  }
+  ASSERT_TRUE(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+  file.write(R"({"clearway_credentials":1,"identity":"c","key":"abcd"})");
+  file.close();
+  EXPECT_NE(messageFor(loadConsoleCredentials, dir.path()).find("says no \"role\""),
+            std::string::npos);
 }
 
 }  // namespace
