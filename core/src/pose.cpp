@@ -191,9 +191,14 @@ std::vector<double> numbers(const std::filesystem::path& file, const nlohmann::j
                     std::string("\"") + key + "\" needs " + std::to_string(count) + " numbers");
   std::vector<double> result;
   for (const nlohmann::json& value : values) {
-    if (!value.is_number() || !std::isfinite(value.get<double>()))
-      throw ScanError(
-          file, std::string("\"") + key + "\" holds " + value.dump() + ", not a finite number");
+    if (!value.is_number() || !std::isfinite(value.get<double>())) {
+      // As much of it as a message line holds: a deeply nested value gave a 60 kB line.
+      constexpr std::size_t kShown = 40;
+      std::string shown = value.dump();
+      if (shown.size() > kShown) shown = shown.substr(0, kShown) + "...";
+      throw ScanError(file,
+                      std::string("\"") + key + "\" holds " + shown + ", not a finite number");
+    }
     result.push_back(value.get<double>());
   }
   return result;

@@ -198,7 +198,13 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ScanError(file, std::string("cannot open the journal: ") + std::strerror(errno));
   std::string text;
-  if (!std::getline(in, text) || text != kMagic)
+  // A journal's first line, read from a copy an editor re-saved (a byte-order mark, CRLF line
+  // ends), was "not a journal": said as what it is.
+  if (std::getline(in, text) && (text.starts_with("\xEF\xBB\xBF") || text.ends_with('\r')))
+    throw ScanError(file,
+                    "the journal was re-saved by an editor (a byte-order mark or CRLF line "
+                    "ends): recover it from the original file");
+  if (text != kMagic)
     throw ScanError(
         file, std::string("not a Clearway acquisition journal (it does not start with '") + kMagic +
                   "')");

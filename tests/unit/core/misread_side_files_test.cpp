@@ -55,6 +55,9 @@ TEST(MisreadSideFiles, APoseSidecarMustBeAScannersPose) {
     EXPECT_NE(read(sidecar("[0, 0, 1]", rotation)).find("not 1: not a rotation as written"),
               std::string::npos)
         << rotation;
+  const std::string nested = read(
+      sidecar("[0, 0, " + std::string(2000, '[') + std::string(2000, ']') + "]", "[1, 0, 0, 0]"));
+  EXPECT_LT(nested.size(), 300u) << "a 60 kB message line";
   fs::remove(file);
   const fs::path scan = directory / "scan.pcd";
   fs::create_symlink(directory / "gone.json", file);

@@ -113,6 +113,14 @@ TEST_F(JournalFolder, WhatIsNoJournalIsRefusedByName) {
     EXPECT_NE(std::string(error.what()).find("not a Clearway acquisition journal"),
               std::string::npos);
   }
+  { std::ofstream(file) << "CLEARWAY-JOURNAL 1\r\nTARGET 0\r\n"; }  // re-saved by an editor
+  try {
+    recoverJournal(file);
+    FAIL() << "accepted";
+  } catch (const ScanError& error) {
+    EXPECT_NE(std::string(error.what()).find("re-saved by an editor"), std::string::npos)
+        << error.what();
+  }
   { std::ofstream(file) << "CLEARWAY-JOURNAL 1\nTARGET 0\nL 12 oops\nA 1 2\n"; }
   try {
     recoverJournal(file);
