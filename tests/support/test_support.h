@@ -27,6 +27,18 @@ class TemporaryDirectory {
 void writeBytes(const std::filesystem::path& file, const std::string& bytes);
 std::string readBytes(const std::filesystem::path& file);
 
+// A test that writes files of its own into a fresh folder.
+class FileFolderTest : public ::testing::Test {
+ protected:
+  TemporaryDirectory directory;
+  // Writes `bytes` to `name` in the folder; returns its path.
+  std::filesystem::path write(const std::string& name, const std::string& bytes) {
+    const auto file = directory / name;
+    writeBytes(file, bytes);
+    return file;
+  }
+};
+
 // Path of a real scan under ../shared/data/real, or empty when the folder is absent.
 std::filesystem::path realScan(const std::string& relative);
 

@@ -42,15 +42,7 @@ std::string floats(int count, float value) {
   return bytes;
 }
 
-class BadInput : public ::testing::Test {
- protected:
-  test::TemporaryDirectory directory;
-  std::filesystem::path write(const std::string& name, const std::string& bytes) {
-    const auto file = directory / name;
-    test::writeBytes(file, bytes);
-    return file;
-  }
-};
+class BadInput : public test::FileFolderTest {};
 
 TEST_F(BadInput, MissingFile) {
   expectScanError(directory / "nope.pcd", "no such file");

@@ -15,16 +15,8 @@
 namespace clearway {
 namespace {
 
-class MisreadFiles : public ::testing::Test {
+class MisreadFiles : public test::FileFolderTest {
  protected:
-  test::TemporaryDirectory directory;
-
-  std::filesystem::path write(const std::string& name, const std::string& bytes) {
-    const auto file = directory / name;
-    test::writeBytes(file, bytes);
-    return file;
-  }
-
   // The ScanError loading `file` gives; fails the test when it loads.
   static std::string errorOf(const std::filesystem::path& file, const LoadOptions& options = {}) {
     try {

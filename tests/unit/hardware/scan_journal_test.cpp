@@ -20,6 +20,11 @@ namespace {
 
 namespace fs = std::filesystem;
 
+std::string readAll(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
 class JournalFolder : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -30,13 +35,19 @@ class JournalFolder : public ::testing::Test {
     fs::create_directories(folder_);
   }
   void TearDown() override { fs::remove_all(folder_); }
+  // Acquires `lines` lines of the emulated garage with a journal, which the acquisition leaves for
+  // its caller to remove; returns the journal's text.
+  std::string acquireWithJournal(int lines) {
+    RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+    AcquisitionOptions options;
+    options.lines = lines;
+    options.journal = journal();
+    EXPECT_TRUE(acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options).complete);
+    return readAll(options.journal);
+  }
+  fs::path journal() const { return folder_ / "scan.journal"; }
   fs::path folder_;
 };
-
-std::string readAll(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), {}};
-}
 
 TEST_F(JournalFolder, TheReplayedJournalIsTheAcquiredScan) {
   RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
@@ -72,13 +83,10 @@ TEST_F(JournalFolder, TheReplayedJournalIsTheAcquiredScan) {
 }
 
 TEST_F(JournalFolder, AJournalCutByACrashGivesEveryWholeLine) {
-  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
-  AcquisitionOptions options;
-  options.lines = 80;
-  options.journal = folder_ / "scan.journal";
-  ASSERT_TRUE(acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options).complete);
   // Cut the file in the middle of its 50th line record, as a crash during a write would.
-  const std::string text = readAll(options.journal);
+  const std::string text = acquireWithJournal(80);
+  AcquisitionOptions options;
+  options.journal = journal();
   std::size_t at = 0;
   for (int lines = 0; lines < 50; ++lines)
     at = text.find("\nL ", at + 1);
@@ -135,12 +143,9 @@ TEST_F(JournalFolder, WhatIsNoJournalIsRefusedByName) {
 // second TARGET were read, a range of 10^20 mm overflowed into a number, a pipe was waited on
 // for ever, and a byte that is not UTF-8 in END's reason broke the JSON written after the scan.
 TEST_F(JournalFolder, AJournalOutOfItsOrderOrRangeIsNotTakenAsItComes) {
-  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  const std::string text = acquireWithJournal(80);
   AcquisitionOptions options;
-  options.lines = 80;
-  options.journal = folder_ / "scan.journal";
-  ASSERT_TRUE(acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options).complete);
-  const std::string text = readAll(options.journal);
+  options.journal = journal();
   const std::size_t end_record = text.rfind("END ");
   ASSERT_NE(end_record, std::string::npos);
   auto recoverFrom = [&](const std::string& journal) {
