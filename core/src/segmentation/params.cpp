@@ -254,8 +254,9 @@ SegmentationParams paramsFromJson(const nlohmann::json& json) {
   SegmentationParams params;
   for (const auto& [section, values] : json.items()) {
     // Named as what it is: "'robto' must be an object" sent the reader to the wrong fault.
+    const std::string prefix = section + ".";  // a structured binding: not for a lambda in clang 14
     const bool known_section = std::any_of(entries().begin(), entries().end(), [&](const Entry& e) {
-      return std::string_view(e.key).starts_with(section + ".");
+      return std::string_view(e.key).starts_with(prefix);
     });
     if (!known_section) throw std::invalid_argument("unknown parameter section '" + section + "'");
     if (!values.is_object()) throw std::invalid_argument("'" + section + "' must be an object");

@@ -113,7 +113,8 @@ TEST(MisreadSideFiles, APipeOrAFolderWhereAFileBelongsIsRefusedByName) {
       {"scene", [](const fs::path& f) { sim::loadScene(f); }},
       {"truth", [](const fs::path& f) { sim::loadGroundTruth(f); }},
       {"sidecar", [](const fs::path& f) { readPoseSidecar(f); }}};
-  for (const auto& [name, read] : readers) {
+  for (const auto& [name, reader] : readers) {
+    const auto& read = reader;  // a structured binding: not for a lambda in clang 14
     const std::string on_pipe = messageOf([&] { read(pipe); });
     EXPECT_NE(on_pipe.find("not a regular file"), std::string::npos) << name << ": " << on_pipe;
     EXPECT_NE(on_pipe.find(pipe.string()), std::string::npos) << name << ": " << on_pipe;
