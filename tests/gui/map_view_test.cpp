@@ -307,6 +307,18 @@ class MapViewTest : public QObject {
     QVERIFY(renderMapPicture(*result.result, 5000, PaletteKind::kColourBlindSafe, {}).isNull());
   }
 
+  // Last: it opens another scan. The footprint under the cursor stayed where the old map's point
+  // under it now lay, away from the cursor.
+  void aNewMapDropsTheFootprintLeftUnderTheCursor() {
+    MapView* map = window_->mapView();
+    QTest::mouseMove(map, map->rect().center());
+    QTRY_VERIFY(map->showsFootprintAtCursor());
+    QSignalSpy shown(window_.get(), &MainWindow::resultShown);
+    window_->openScan(CLEARWAY_SAMPLES_DIR "/hallway.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(!map->showsFootprintAtCursor());
+  }
+
  private:
   std::unique_ptr<MainWindow> window_;
 };

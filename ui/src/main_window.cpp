@@ -63,8 +63,8 @@ QDockWidget* dockFor(QMainWindow* window, QWidget* panel, const QString& title,
 }
 
 // The scan in words for the Scan panel, then the raw facts for Details.
-QString humanSummary(const SessionResult& result) {
-  const ScanSummary facts = summarise(*result.scan);
+// `facts`: summarise(*result.scan), worked out once per scan (every point is looked at).
+QString humanSummary(const SessionResult& result, const ScanSummary& facts) {
   QString text = QObject::tr("<b>%1</b><br>%2 points in %3 scan lines")
                      .arg(QFileInfo(result.scan_path).fileName().toHtmlEscaped())
                      .arg(QLocale().toString(qulonglong(facts.valid_points)))
@@ -409,6 +409,8 @@ void MainWindow::updateAge() {
     return;
   }
   const QString age = ageInWords(d_->shown.scan_time);
+  // The Scan panel's summary says the age too: both move on together (they read 14 and 15 min).
+  d_->scans->setSummary(humanSummary(d_->shown, d_->shown_facts));
   d_->age->setText(
       (d_->shown.scan_time_recorded ? tr("Scan taken %1, %2") : tr("Scan file saved %1, %2"))
           .arg(QLocale().toString(d_->shown.scan_time.time(), QLocale::ShortFormat))
@@ -455,7 +457,8 @@ void MainWindow::showResult(const SessionResult& result) {
   showPoseAndReach();
   // The safety rule: when the result cannot be trusted, say so and show nothing traversable.
   updateTrustBanner();
-  d_->scans->setCurrent(result.scan_path, humanSummary(result), detailsOf(result));
+  d_->shown_facts = summarise(*result.scan);
+  d_->scans->setCurrent(result.scan_path, humanSummary(result, d_->shown_facts), detailsOf(result));
   statusBar()->showMessage(tr("%1: done in %2 s")
                                .arg(QFileInfo(result.scan_path).fileName())
                                .arg(pipeline.total_ms / 1000.0, 0, 'f', 1),

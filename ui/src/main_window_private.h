@@ -11,6 +11,7 @@
 #include <QTimer>
 #include <optional>
 
+#include "clearway/scan_summary.h"
 #include "clearway/ui/main_window.h"
 #include "clearway/ui/palette.h"
 #include "clearway/ui/segmentation_session.h"
@@ -48,6 +49,7 @@ struct MainWindow::Private {
   HardwarePanel* hardware = nullptr;
   std::vector<QDockWidget*> docks;
   SessionResult shown;
+  ScanSummary shown_facts;  // summarise(*shown.scan), for the summary refreshed with its age
   QLabel* hover = nullptr;
   QLabel* age = nullptr;
   QProgressBar* progress = nullptr;

@@ -51,6 +51,9 @@ void MapView::setResult(std::shared_ptr<const PipelineResult> result) {
     goal_.reset();
     reachable_.clear();
     measure_points_.clear();
+    // The cursor's footprint stood where the old map's point under it now lies, away from the
+    // cursor: it comes back with the next move.
+    cursor_inside_ = false;
   }
   rebuildImage();
   if (!fitted_) fit();

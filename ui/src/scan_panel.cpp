@@ -95,6 +95,10 @@ QStringList ScanPanel::scansInFolder(const QString& folder) {
   return scans;
 }
 
+void ScanPanel::setSummary(const QString& summary) {
+  d_->info->setText(summary);
+}
+
 void ScanPanel::clearCurrent() {
   d_->info->setText(tr("No scan shown. Open a scan, or drop one on the window."));
   d_->details->clear();

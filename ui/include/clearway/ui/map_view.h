@@ -58,6 +58,8 @@ class MapView : public QWidget {
   // Greys the map with `note` over it ("Previous scan, 2 min old ..."); an empty note ends it.
   void setStale(const QString& note);
   bool isStale() const { return !stale_note_.isEmpty(); }
+  // Whether the robot's footprint is drawn under the cursor.
+  bool showsFootprintAtCursor() const { return cursor_inside_ && !measuring_; }
   // The next two clicks measure a distance (emitted as `measured`) instead of selecting.
   void setMeasuring(bool on);
   bool measuring() const { return measuring_; }

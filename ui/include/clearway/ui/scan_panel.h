@@ -22,6 +22,8 @@ class ScanPanel : public QWidget {
   void setCurrent(const QString& path, const QString& summary, const QString& details = {});
   // No scan is shown (a failed or cancelled open).
   void clearCurrent();
+  // Replaces the shown scan's summary alone (its age moves on), keeping the rest.
+  void setSummary(const QString& summary);
   QStringList recentScans() const;
   // The scans Clearway can read in a folder, sorted by name.
   static QStringList scansInFolder(const QString& folder);
