@@ -177,6 +177,18 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
     if (end == std::string_view::npos) end = bytes.size();
     const std::string_view line = bytes.substr(position, end - position);
     position = std::min(end + 1, bytes.size());
+    // PCL splits header lines at spaces, tabs and carriage returns only; a vertical tab or a form
+    // feed, space to us, made its reader crash on a header ours had accepted (found by
+    // scripts/fuzz: "\v" lines before "# .PCD v0.7").
+    if (const auto control = std::find_if(line.begin(), line.end(),
+                                          [](char c) {
+                                            const auto byte = static_cast<unsigned char>(c);
+                                            return (byte < 0x20 && c != '\t' && c != '\r') ||
+                                                   byte == 0x7F;
+                                          });
+        control != line.end())
+      throw ScanError(file, "PCD header line '" + printableExcerpt(line.substr(0, 60)) +
+                                "' holds a control character: not a PCD header");
     const std::vector<std::string> words = splitWords(line);
     if (words.empty() || words[0].starts_with('#')) continue;
     const std::string& key = words[0];

@@ -111,6 +111,17 @@ TEST_F(MisreadFiles, PcdHeaderValuesThatWrapOrLack) {
             std::string::npos);
 }
 
+// Lines of a vertical tab before "# .PCD v0.7" passed our header check (space to it) and crashed
+// PCL's reader, which splits at spaces, tabs and carriage returns only (found by scripts/fuzz).
+TEST_F(MisreadFiles, PcdHeaderWithControlCharactersIsRefusedBeforePclReadsIt) {
+  const std::string header = pcdHeader("x y z", "4 4 4", "F F F", 4, "binary");
+  for (const std::string& prefix : {std::string("\n\v\n"), std::string("\f\n")}) {
+    const std::string message = errorOf(write("control.pcd", prefix + header + floatRecords(4, 3)));
+    EXPECT_NE(message.find("holds a control character"), std::string::npos) << message;
+  }
+  EXPECT_EQ(loadScan(write("plain.pcd", "\n" + header + floatRecords(4, 3))).size(), 4U);
+}
+
 // A quaternion of 1e200 components overflowed its norm and became the identity.
 TEST_F(MisreadFiles, ViewpointOfHugeComponentsIsTheRotationItSays) {
   const std::string rows = "1 2 3\n4 5 6\n";
