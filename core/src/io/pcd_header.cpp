@@ -190,6 +190,12 @@ Header parseHeader(const std::filesystem::path& file, std::string_view prefix,
       throw ScanError(file, "PCD header line '" + printableExcerpt(line.substr(0, 60)) +
                                 "' holds a control character: not a PCD header");
     const std::vector<std::string> words = splitWords(line);
+    // A line of spaces, tabs or a carriage return alone: PCL's reader crashes on it (found by
+    // scripts/fuzz; an empty line it skips, as we do).
+    if (!line.empty() && words.empty())
+      throw ScanError(file,
+                      "PCD header holds a line of nothing but spaces or tabs: PCL's reader "
+                      "cannot read such a header");
     if (words.empty() || words[0].starts_with('#')) continue;
     const std::string& key = words[0];
     // A key given twice (two WIDTH lines) took its last value here and perhaps its first in

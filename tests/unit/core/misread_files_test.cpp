@@ -111,13 +111,18 @@ TEST_F(MisreadFiles, PcdHeaderValuesThatWrapOrLack) {
             std::string::npos);
 }
 
-// Lines of a vertical tab before "# .PCD v0.7" passed our header check (space to it) and crashed
-// PCL's reader, which splits at spaces, tabs and carriage returns only (found by scripts/fuzz).
+// Lines of a vertical tab, or of tabs alone, before "# .PCD v0.7" passed our header check (blank
+// to it) and crashed PCL's reader (found by scripts/fuzz).
 TEST_F(MisreadFiles, PcdHeaderWithControlCharactersIsRefusedBeforePclReadsIt) {
   const std::string header = pcdHeader("x y z", "4 4 4", "F F F", 4, "binary");
   for (const std::string& prefix : {std::string("\n\v\n"), std::string("\f\n")}) {
     const std::string message = errorOf(write("control.pcd", prefix + header + floatRecords(4, 3)));
     EXPECT_NE(message.find("holds a control character"), std::string::npos) << message;
+  }
+  // So did a line of nothing but spaces, tabs or a carriage return (an empty one it skips).
+  for (const std::string& prefix : {std::string("\t\n"), std::string(" \n"), std::string("\r\n")}) {
+    const std::string message = errorOf(write("blank.pcd", prefix + header + floatRecords(4, 3)));
+    EXPECT_NE(message.find("nothing but spaces or tabs"), std::string::npos) << message;
   }
   EXPECT_EQ(loadScan(write("plain.pcd", "\n" + header + floatRecords(4, 3))).size(), 4U);
 }
