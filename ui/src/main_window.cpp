@@ -443,9 +443,10 @@ void MainWindow::showResult(const SessionResult& result) {
   const bool new_scan = result.scan != d_->shown.scan;
   if (new_scan) dropGoal();
   // While a new scan is acquired the shown one stays the previous scan, whatever is run on it
-  // again: a robot or slope changed mid-acquisition brought the old map back in full colour,
-  // "done", green under the growing cloud of the new one.
-  d_->shown_is_previous = d_->shown_is_previous && !new_scan;
+  // again (a robot, a slope or a pose typed for it): a robot changed mid-acquisition brought the
+  // old map back in full colour, "done", green under the growing cloud of the new one. Only the
+  // new scan's file ends it.
+  d_->shown_is_previous = d_->shown_is_previous && result.scan_path == d_->shown.scan_path;
   d_->shown = result;
   // An estimated up direction may be wrong: nothing is drawn traversable until it is confirmed.
   d_->withheld = pipeline.trusted() && pipeline.analysis->pose_source == PoseSource::kEstimated;
