@@ -28,7 +28,7 @@ void requireRegularFile(const fs::path& file) {
 }
 
 std::string readWholeFile(const fs::path& file, std::uintmax_t max_bytes) {
-  detail::checkIsAScanFile(file);
+  requireRegularFile(file);
   std::error_code error;
   const std::uintmax_t size = fs::file_size(file, error);
   if (error) throw ScanError(file, "cannot read its size: " + error.message());

@@ -14,13 +14,9 @@
 namespace clearway {
 namespace detail {
 
-void checkIsAScanFile(const std::filesystem::path& file) {
-  requireRegularFile(file);
-}
-
 std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,
                            std::uintmax_t& file_size) {
-  checkIsAScanFile(file);
+  requireRegularFile(file);
   std::error_code error;
   file_size = std::filesystem::file_size(file, error);
   if (error) throw ScanError(file, "cannot read its size: " + error.message());
@@ -187,7 +183,7 @@ std::string formatName(ScanFormat format) {
 
 Scan loadScan(const std::filesystem::path& file, const LoadOptions& options) {
   // What the path is comes before what its name says: a folder is no "unknown extension ''".
-  detail::checkIsAScanFile(file);
+  requireRegularFile(file);
   const ScanFormat format = formatFromPath(file);
   reportProgress(options.progress, 0.0);
   Scan scan;

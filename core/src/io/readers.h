@@ -17,10 +17,6 @@ Scan readXyz(const std::filesystem::path& file, const LoadOptions& options);
 Scan readKittiBin(const std::filesystem::path& file, const LoadOptions& options);
 Scan readUos(const std::filesystem::path& file, const LoadOptions& options);
 
-// Throws ScanError unless `file` is a regular file: no such file, unreachable (a link loop), a
-// directory, a device or a pipe, each said as such.
-void checkIsAScanFile(const std::filesystem::path& file);
-
 // Reads at most `max_bytes` from the start of a file (for headers) and reports the file's size.
 std::string readFilePrefix(const std::filesystem::path& file, std::size_t max_bytes,
                            std::uintmax_t& file_size);
