@@ -1,6 +1,7 @@
 // clearway-cli: the headless face of Clearway. main() only dispatches and maps failures to exit
 // codes: 0 success, 1 the work failed, 2 the command line was wrong.
 
+#include <algorithm>
 #include <exception>
 #include <functional>
 #include <iostream>
@@ -14,49 +15,13 @@
 #include "clearway/progress.h"
 #include "clearway/sim/scene_io.h"
 #include "commands.h"
+#include "usage.h"
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: clearway-cli COMMAND [options]\n"
-    "\n"
-    "commands:\n"
-    "  info [--json] [--self-hit-radius M] [--rings N] FILE\n"
-    "                                            describe a scan file\n"
-    "  simulate SCENE -o FILE.pcd [--lines N | --speed DEG_S] [--axis up|down|forward|side|X,Y,Z]\n"
-    "           [--tilt DEG] [--axis-roll DEG] [--position X,Y,Z] [--seed S] [--noise M]\n"
-    "           [--max-range M] [--mixed-pixels] [--dropout P] [--door-width W] [--door-height H]\n"
-    "           [--ramp-slope DEG] [--stair-rise M] [--stair-tread M] [--encoding E]\n"
-    "                                            simulated RoSi scan + FILE.truth.json\n"
-    "  scene --list | scene NAME [-o FILE.json]  list or export the built-in scenes\n"
-    "  segment SCAN -o DIR [--robot-width W] [--robot-length L] [--robot-height H]\n"
-    "          [--max-step M] [--max-slope DEG] [--max-stair-rise M] [--max-stair-slope DEG]\n"
-    "          [--params FILE] [--method split-and-merge|hough]\n"
-    "          [--threads N] [--rings N] [--pose P] [--up U] [--goal X,Y]\n"
-    "                                            planes, ground, traversability map, 3D scene\n"
-    "  emulate [--scene SCENE] [--ports FILE] [--speed X] [--seconds S] [--arm-tilt DEG]\n"
-    "          [--arm-roll DEG] [--mount POSE] [--stall-after S] [--laser-silent-after S]\n"
-    "          [--table-silent-after S] [--hang-up-after S] [--mute-angles] [--corrupt-every N]\n"
-    "                                            an LMS200, turntable and arm on pseudo-terminals\n"
-    "  acquire --lms PORT --turntable PORT [--arm PORT] [--mount TX,TY,TZ,QW,QX,QY,QZ]\n"
-    "          [--lines N] [--speed DEG_S] [--timeout MS] [--baud B] -o SCAN.pcd\n"
-    "                                            one RoSi scan from the devices (or the emulator)\n"
-    "  acquire --recover SCAN.journal -o SCAN.pcd  the lines a crashed acquisition journaled\n"
-    "  acquire --remote HOST:PORT --credentials DIR [--lines N] [--watch] -o SCAN.pcd\n"
-    "                                            one scan from `serve` on the robot\n"
-    "  serve --credentials DIR --listen HOST:PORT (--simulate SCENE [--speed X] |\n"
-    "        --lms PORT --turntable PORT [--baud B]) [--storage DIR] [--seconds S]\n"
-    "                                            the RoSi on the robot, for remote consoles\n"
-    "  serve --init-credentials DIR              write the robot's and the console's keys\n"
-    "  bench SCAN... [--repeat N] [--threads T] [--peers] [--json] [--rings N]\n"
-    "          [robot, pose and --params options]\n"
-    "                                            time the pipeline: per-stage median and p95\n"
-    "  eval [--json] [--tolerance M] SCAN.truth.json RESULT_DIR\n"
-    "                                            score a segment result against the truth\n"
-    "\n"
-    "--rings N: a multi-beam LiDAR's number of rings (recovered from the elevation angles).\n"
-    "Formats: .pcd .ply .xyz/.txt/.dat/.asc .bin (KITTI) .3d (+ .pose, 3DTK uos).\n"
-    "See README.md and docs/FORMATS.md.\n";
+bool asksForHelp(const std::string& word) {
+  return word == "--help" || word == "-h";
+}
 
 }  // namespace
 
@@ -70,19 +35,50 @@ int main(int argc, char** argv) {
       {"acquire", clearway::cli::runAcquire}, {"bench", clearway::cli::runBench},
       {"serve", clearway::cli::runServe},
   };
-  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
-    std::cout << kUsage;
-    return argc < 2 ? 2 : 0;
-  }
-  const auto command = commands.find(argv[1]);
-  if (command == commands.end()) {
-    std::cerr << "clearway-cli: unknown command '" << argv[1] << "'\n" << kUsage;
+  using clearway::cli::commandUsage;
+  using clearway::cli::usageText;
+  const std::vector<std::string> words(argv + 1, argv + argc);
+  if (words.empty()) {
+    std::cerr << usageText();
     return 2;
   }
+  const std::string& name = words.front();
+  if (asksForHelp(name)) {
+    std::cout << usageText();
+    return 0;
+  }
+  if (name == "--version") {
+    std::cout << "clearway-cli " << CLEARWAY_VERSION << '\n';
+    return 0;
+  }
+  // `help`, `help COMMAND` and `COMMAND --help`: a new user's first tries.
+  if (name == "help") {
+    if (words.size() == 1) {
+      std::cout << usageText();
+      return 0;
+    }
+    if (!commands.count(words[1])) {
+      std::cerr << "clearway-cli: unknown command '" << words[1] << "'\n" << usageText();
+      return 2;
+    }
+    std::cout << "usage:\n" << commandUsage(words[1]);
+    return 0;
+  }
+  const auto command = commands.find(name);
+  if (command == commands.end()) {
+    std::cerr << "clearway-cli: unknown command '" << name << "'\n" << usageText();
+    return 2;
+  }
+  const std::vector<std::string> options(words.begin() + 1, words.end());
+  if (std::any_of(options.begin(), options.end(), asksForHelp)) {
+    std::cout << "usage:\n" << commandUsage(name);
+    return 0;
+  }
   try {
-    return command->second(std::vector<std::string>(argv + 2, argv + argc));
+    return command->second(options);
   } catch (const clearway::cli::UsageError& error) {
-    std::cerr << "clearway-cli " << argv[1] << ": " << error.what() << '\n';
+    std::cerr << "clearway-cli " << name << ": " << error.what() << "\nusage:\n"
+              << commandUsage(name);
     return 2;
   } catch (const clearway::ScanError& error) {
     std::cerr << "clearway-cli: " << error.what() << '\n';

@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "test_support.h"
 
@@ -61,6 +63,36 @@ TEST(CliInfo, HelpExitsZero) {
   const auto result = runCli("--help");
   EXPECT_EQ(result.exit_code, 0);
   EXPECT_NE(result.out.find("info"), std::string::npos);
+}
+
+// A new user's first tries: `COMMAND --help`, `help COMMAND`, and a wrong option, each answered
+// with that command's own usage (they said "unknown option --help" and nothing more).
+TEST(CliHelp, EveryCommandAnswersWithItsOwnUsage) {
+  const std::vector<std::string> kCommands = {"info",    "simulate", "scene", "segment", "emulate",
+                                              "acquire", "serve",    "bench", "eval"};
+  for (const std::string& command : kCommands) {
+    SCOPED_TRACE(command);
+    const std::string own_line = "usage:\n  " + command + " ";
+    for (const std::string& asked : {command + " --help", command + " -h", "help " + command}) {
+      const auto result = runCli(asked);
+      EXPECT_EQ(result.exit_code, 0) << asked << ": " << result.err;
+      EXPECT_TRUE(result.out.starts_with(own_line)) << asked << ": " << result.out;
+      for (const std::string other : kCommands)
+        if (other != command)
+          EXPECT_EQ(result.out.find("\n  " + other + " "), std::string::npos)
+              << "only " << command << "'s lines: " << result.out;
+    }
+    const auto wrong = runCli(command + " --no-such-option");
+    EXPECT_EQ(wrong.exit_code, 2);
+    EXPECT_NE(wrong.err.find("--no-such-option"), std::string::npos) << wrong.err;
+    EXPECT_NE(wrong.err.find(own_line), std::string::npos) << wrong.err;
+  }
+  const auto unknown = runCli("help frobnicate");
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_NE(unknown.err.find("unknown command 'frobnicate'"), std::string::npos) << unknown.err;
+  const auto version = runCli("--version");
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_TRUE(version.out.starts_with("clearway-cli ")) << version.out;
 }
 
 }  // namespace
