@@ -90,6 +90,8 @@ struct LineShape {
   double step = 0.0;  // median angle between neighbouring returns [rad]
   // A multi-beam ring: a full turn of azimuth, or a partial one at one elevation (a cone).
   bool ring = false;
+  // False for a line only found usable (describeSensor shapes a sample of a dense scan's lines).
+  bool shaped = true;
 };
 
 // The median of acos(cosines[j]) / gaps[j] (angles between neighbouring samples, per return
@@ -213,6 +215,36 @@ LineShape shapeOf(const Scan& scan, const ScanLine& line) {
   return shape;
 }
 
+// At most this many lines are shaped (shapeOf) where every line carries its turntable angle.
+constexpr std::size_t kShapedLines = 512;
+
+// Every how many of the `usable` lines one is shaped: 1 unless every line carries its turntable
+// angle (then the shapes give only statistics) and more than kShapedLines are usable.
+std::size_t shapingStride(const Scan& scan, std::size_t usable) {
+  const bool every_angle =
+      std::all_of(scan.lines.begin(), scan.lines.end(),
+                  [](const ScanLine& line) { return std::isfinite(line.beta); });
+  if (!every_angle || usable <= kShapedLines) return 1;
+  return (usable + kShapedLines - 1) / kShapedLines;
+}
+
+// A line not (yet) shaped: usable exactly where shapeOf finds it so (two sampled directions), its
+// shape otherwise the default one, and not counted in the statistics.
+LineShape unshapedLine(const Scan& scan, const ScanLine& line) {
+  LineShape shape;
+  shape.shaped = false;
+  // forSampledDirections' samples, counted up to two.
+  const std::size_t stride = std::max<std::size_t>(1, line.count / kStepsPerLine);
+  std::size_t samples = 0;
+  for (std::size_t k = 0; k < line.count && samples < 2; k += stride) {
+    const std::size_t i = line.first + k;
+    const Point3f& p = scan.points[i];
+    if (scan.isValid(i) && Eigen::Vector3d(p.x, p.y, p.z).norm() > 1e-6) ++samples;
+  }
+  shape.usable = samples >= 2;
+  return shape;
+}
+
 // The median elevation of a line's samples [rad]. The sines of the elevations: asin is
 // increasing, so their median's is the elevations' median.
 double medianElevation(const Scan& scan, const ScanLine& line) {
@@ -286,32 +318,44 @@ SensorGeometry describeSensor(const Scan& scan, int threads) {
   sensor.lines = scan.lines.size();
   if (scan.lines.size() < 2) return sensor;
   // A few trigonometric functions per return: 10 % of a RoSi scan's pipeline on one thread.
+  // Which lines are usable (two sampled directions), then the shapes of those lines. Where every
+  // line carries its turntable angle, the shapes give only statistics (the median step along a
+  // line, whether most are rings): a few hundred usable lines settle them, and a dense RoSi scan's
+  // tens of thousands (10M points: 55,556 lines) need only be found usable.
   std::vector<LineShape> every_shape(scan.lines.size());
   detail::parallelChunks(scan.lines.size(), threads,
                          [&](std::size_t begin, std::size_t end, std::size_t) {
                            for (std::size_t l = begin; l < end; ++l)
-                             every_shape[l] = shapeOf(scan, scan.lines[l]);
+                             every_shape[l] = unshapedLine(scan, scan.lines[l]);
+                         });
+  std::vector<std::size_t> used;  // line index of each usable line
+  for (std::size_t l = 0; l < scan.lines.size(); ++l)
+    if (every_shape[l].usable) used.push_back(l);
+  const std::size_t shaped_every = shapingStride(scan, used.size());
+  detail::parallelChunks(used.size(), threads,
+                         [&](std::size_t begin, std::size_t end, std::size_t) {
+                           for (std::size_t k = begin; k < end; ++k)
+                             if (k % shaped_every == 0)
+                               every_shape[used[k]] = shapeOf(scan, scan.lines[used[k]]);
                          });
   std::vector<LineShape> shapes;
-  shapes.reserve(scan.lines.size());
-  std::vector<std::size_t> used;  // line index of each usable shape
-  for (std::size_t l = 0; l < scan.lines.size(); ++l) {
-    if (!every_shape[l].usable) continue;
+  shapes.reserve(used.size());
+  for (const std::size_t l : used)
     shapes.push_back(every_shape[l]);
-    used.push_back(l);
-  }
   if (shapes.size() < 2) return sensor;
   sensor.line_angle.assign(scan.lines.size(), std::numeric_limits<double>::quiet_NaN());
   std::vector<double> along;
-  std::size_t rings = 0;
+  std::size_t rings = 0, shaped = 0;
   for (const LineShape& s : shapes) {
+    if (!s.shaped) continue;
     along.push_back(s.step);
     rings += s.ring;
+    ++shaped;
   }
   sensor.along_line_step = median(along);
 
   // Most lines are rings (the upper median: at least n - n / 2 of n).
-  if (rings >= shapes.size() - shapes.size() / 2) {
+  if (shaped > 0 && rings >= shaped - shaped / 2) {
     // Rings: the step between them is the elevation step, whatever order the file keeps them in.
     sensor.kind = SensorKind::kMultiBeam;
     detail::parallelChunks(

@@ -53,6 +53,37 @@ TEST(SensorGeometry, VerticalFansKeepTheirDirectionAboutTheVertical) {
         << f;
 }
 
+// A dense RoSi scan (thousands of fans, each with its turntable angle) is described from a sample
+// of its usable fans: here every third fan is empty (no returns), and a sample of every third line
+// regardless of use would have found no fan to measure.
+TEST(SensorGeometry, ADenseScansFansAreMeasuredFromTheUsableOnes) {
+  constexpr int kFans = 1800, kPerFan = 90;
+  constexpr double kBetweenDeg = 360.0 / kFans, kAlongDeg = 160.0 / (kPerFan - 1);
+  Scan scan;
+  for (int f = 0; f < kFans; ++f) {
+    const double azimuth = f * kBetweenDeg * kDeg;
+    scan.lines.push_back({scan.points.size(), std::size_t(kPerFan), azimuth});
+    for (int k = 0; k < kPerFan; ++k) {
+      const double elevation = (80.0 - k * kAlongDeg) * kDeg;
+      test::addDirection(scan,
+                         {std::cos(elevation) * std::cos(azimuth),
+                          std::cos(elevation) * std::sin(azimuth), std::sin(elevation)},
+                         4.0);
+      if (f % 3 == 0) scan.status.back() = PointStatus::kNoReturn;
+    }
+  }
+  const SensorGeometry sensor = describeSensor(scan, 2);
+  EXPECT_EQ(sensor.kind, SensorKind::kRotating2D);
+  EXPECT_NEAR(sensor.along_line_step, kAlongDeg * kDeg, 1e-4 * kDeg);
+  EXPECT_NEAR(sensor.between_line_step, kBetweenDeg * kDeg, 1e-4 * kDeg);
+  EXPECT_TRUE(sensor.closed_turn);
+  for (int f = 0; f < kFans; ++f)
+    if (f % 3 == 0)
+      EXPECT_TRUE(std::isnan(sensor.line_angle[std::size_t(f)])) << f;
+    else
+      EXPECT_DOUBLE_EQ(sensor.line_angle[std::size_t(f)], f * kBetweenDeg * kDeg) << f;
+}
+
 // The density check's hidden obstacle for fans about a tilted axis. With the axis along z the
 // general geometry gives what a RoSi's vertical fans do.
 TEST(SensorGeometry, HiddenObstacleAboutAnAxisAlongZIsTheVerticalFansOne) {
