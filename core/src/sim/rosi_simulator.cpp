@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "clearway/pose.h"
+#include "clearway/segmentation/params.h"
 #include "clearway/sim/ray_caster.h"
 
 namespace clearway::sim {
@@ -52,6 +53,26 @@ ScannerPlacement defaultPlacement(const Scene& scene) {
   placement.position = scene.scanner_position;
   placement.axis = scene.scanner_axis;
   return placement;
+}
+
+std::string placementProblem(const ScannerPlacement& placement, const std::string& prefix) {
+  const auto shown = [](const Eigen::Vector3d& v) {
+    std::string text = "[";  // appended: GCC 12 warned (-Wrestrict) on "[" + a temporary
+    for (int i = 0; i < 3; ++i)
+      text += readableNumber(v[i]) + (i < 2 ? ", " : "]");
+    return text;
+  };
+  // 1e308 put the scanner off every map: its rays met nothing, and eval placed the map there.
+  if (!placement.position.allFinite() ||
+      !(placement.position.cwiseAbs().maxCoeff() <= kFarthestScannerPosition))
+    return prefix + "position = " + shown(placement.position) +
+           " lies more than 10 km from the origin";
+  if (!unitDirection(placement.axis))
+    return prefix + "axis = " + shown(placement.axis) + " is no direction (zero or not finite)";
+  if (!(std::abs(placement.axis_roll_deg) <= 360.0))
+    return prefix + "axis_roll_deg = " + readableNumber(placement.axis_roll_deg) +
+           " is outside -360 .. 360";
+  return {};
 }
 
 std::vector<double> simulateLineRanges(const Scene& scene, const RayCaster& caster,

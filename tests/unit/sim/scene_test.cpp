@@ -53,6 +53,72 @@ TEST(Scenes, MalformedScenesAreRefusedWithAReason) {
   EXPECT_THROW(loadScene(directory / "missing.json"), SceneError);
 }
 
+// The SceneError reading `document` gives; fails the test when it reads.
+std::string sceneErrorOf(const nlohmann::json& document) {
+  try {
+    sceneFromJson(document);
+    ADD_FAILURE() << "read " << document.dump().substr(0, 200);
+  } catch (const SceneError& error) {
+    return error.what();
+  }
+  return {};
+}
+
+// Each value was read as given: a passage to a place the scene lacks joined nothing, a width of -1
+// was "no limit", a negative remission a negative intensity, a scanner at 1e308 saw nothing. Each
+// is refused naming its key and value.
+TEST(Scenes, ValuesNoSceneHoldsAreRefusedNamingKeyAndValue) {
+  using nlohmann::json;
+  const json garage = sceneToJson(*builtinScene("garage"));
+  const auto with = [&](const std::string& key, const json& value) {
+    json changed = garage;
+    changed[json::json_pointer(key)] = value;
+    return changed;
+  };
+  std::size_t truck = 0;  // remission 0.8, size [5, 2, 2.2]
+  while (truck < garage["primitives"].size() && garage["primitives"][truck]["name"] != "truck")
+    ++truck;
+  ASSERT_LT(truck, garage["primitives"].size());
+  const auto primitive = [&](const std::string& key) {
+    return "/primitives/" + std::to_string(truck) + "/" + key;
+  };
+  ASSERT_EQ(garage["passages"][0]["name"], "door");
+  for (const auto& [document, expected] : std::vector<std::pair<json, std::string>>{
+           {with("/passages/0/to", "outsid"),
+            "passage 'door'.to = 'outsid' names no place of the scene (places: 'inside', "
+            "'outside')"},
+           {with("/passages/0/from", "hall"), "passage 'door'.from = 'hall'"},
+           {with("/passages/0/width", -1),
+            "passage 'door'.width = -1 is outside 0 .. 20000 m (0: no limit)"},
+           {with("/passages/0/height", -2), "passage 'door'.height = -2 is outside"},
+           {with("/passages/0/step", -0.1), "passage 'door'.step = -0.1 is outside"},
+           {with("/passages/0/width", true), "passage 'door'.width = true is not a finite number"},
+           {with(primitive("remission"), -0.2),
+            "primitive 'truck'.remission = -0.2 is outside 0 .. 1"},
+           {with(primitive("remission"), 3), "primitive 'truck'.remission = 3 is outside 0 .. 1"},
+           {with(primitive("yaw_deg"), 1e9), "primitive 'truck'.yaw_deg = 1e+09 is outside"},
+           {with(primitive("size"), {5, -1, 2.2}),
+            "primitive 'truck'.size = [5, -1, 2.2]: every edge must be more than 0"},
+           {with(primitive("size"), {5, 0, 2.2}), "primitive 'truck'.size = [5, 0, 2.2]"},
+           {with(primitive("center"), {0, 0, 1e308}),
+            "primitive 'truck'.center = [0, 0, 1e+308] lies more than 10 km from the origin"},
+           {with(primitive("shape"), "cylinder"),
+            "primitive 'truck'.size = [5, 2, 2.2]: a cylinder's size is [diameter, diameter, "
+            "length]"},
+           {with("/scanner/position", {0.5, -0.5, 1e308}),
+            "scanner.position = [0.5, -0.5, 1e+308] lies more than 10 km from the origin"},
+           {with("/scanner/axis", {0, 0, 0}), "scanner.axis = [0, 0, 0] is no direction"},
+           {with("/places/0/position", {2e4, 0, 0}),
+            "place 'inside'.position = [20000, 0, 0] lies more than 10 km from the origin"},
+           {with("/places/1/name", "inside"), "two places are named 'inside'"},
+       }) {
+    const std::string message = sceneErrorOf(document);
+    EXPECT_NE(message.find(expected), std::string::npos) << message;
+  }
+  // A width of 0 is no limit, and stays so.
+  EXPECT_EQ(sceneFromJson(with("/passages/0/width", 0)).passages[0].width, 0.0);
+}
+
 TEST(Scenes, GarageDoorDecidesWhoGetsOut) {
   SceneParameters parameters;
   parameters.door_width = 0.9;

@@ -44,6 +44,16 @@ struct ScannerPlacement {
 };
 ScannerPlacement defaultPlacement(const Scene& scene);
 
+// How far from the scene's origin the scanner may stand, per coordinate [m]: as far as any scanner
+// measures (a pose sidecar's translation is held to the same).
+inline constexpr double kFarthestScannerPosition = 10'000.0;
+
+// Why `placement` is no scanner's place, naming its keys after `prefix` ("scanner." gives
+// "scanner.position = [0, 0, 1e+308] lies more than 10 km from the origin"): a position that is
+// not finite or more than kFarthestScannerPosition out, an axis that is zero or not finite, an
+// axis roll outside -360 .. 360 deg. Empty when it is a place.
+std::string placementProblem(const ScannerPlacement& placement, const std::string& prefix);
+
 // One planar (or curved) surface of the scene that the scan saw.
 struct SurfaceTruth {
   int id = -1;
