@@ -1,5 +1,6 @@
 #include "clearway/sim/ground_truth_io.h"
 
+#include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -24,6 +25,17 @@ json vectorJson(const Eigen::Vector3d& v) {
 }
 Eigen::Vector3d vectorFrom(const json& v) {
   return {v.at(0).get<double>(), v.at(1).get<double>(), v.at(2).get<double>()};
+}
+
+// The scanner's `key`: three numbers (a fourth was ignored, a word read as a malformed file).
+Eigen::Vector3d scannerVector(const std::filesystem::path& file, const json& scanner,
+                              const char* key) {
+  const json& value = scanner.at(key);
+  if (!value.is_array() || value.size() != 3 ||
+      !std::all_of(value.begin(), value.end(), [](const json& v) { return v.is_number(); }))
+    throw SceneError(file.string() + ": scanner." + key + " = " + value.dump().substr(0, 40) +
+                     " must be [x, y, z]");
+  return vectorFrom(value);
 }
 
 }  // namespace
@@ -125,9 +137,16 @@ GroundTruth loadGroundTruth(const std::filesystem::path& file) {
     truth.sensor.dropout = sensor.value("dropout", 0.0);  // files from before it existed: none
     truth.sensor.seed = sensor.at("seed");
     const json& scanner = document.at("scanner");
-    truth.placement.position = vectorFrom(scanner.at("position"));
-    truth.placement.axis = vectorFrom(scanner.at("axis"));
-    truth.placement.axis_roll_deg = scanner.at("axis_roll_deg");
+    truth.placement.position = scannerVector(file, scanner, "position");
+    truth.placement.axis = scannerVector(file, scanner, "axis");
+    const json& roll = scanner.at("axis_roll_deg");
+    if (!roll.is_number())
+      throw SceneError(file.string() + ": scanner.axis_roll_deg = " + roll.dump().substr(0, 40) +
+                       " is not a number");
+    truth.placement.axis_roll_deg = roll.get<double>();
+    // eval places the map by this pose: a scanner at 1e308 put every cell off the scene.
+    if (const std::string problem = placementProblem(truth.placement, "scanner."); !problem.empty())
+      throw SceneError(file.string() + ": " + problem);
     for (const json& value : document.at("classes")) {
       // A class of 1.5 was read as 1: only whole numbers are classes.
       if (!value.is_number_integer())

@@ -97,6 +97,10 @@ std::vector<double> simulateLineRanges(const Scene& scene, const RayCaster& cast
 
 SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
                            const ScannerPlacement& placement, const ProgressCallback& progress) {
+  // Its truth file would be refused: eval holds the placement to the same (--position 0,0,1e308
+  // gave a scan of no returns).
+  if (const std::string problem = placementProblem(placement, "scanner "); !problem.empty())
+    throw std::invalid_argument(problem);
   const RayCaster caster(scene);
   const Eigen::Isometry3d world_from_scanner = placement.worldFromScanner();
   const Eigen::Matrix3d rotation = world_from_scanner.linear();

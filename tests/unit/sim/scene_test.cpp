@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
+#include <tuple>
 
 #include "clearway/sim/builtin_scenes.h"
 #include "clearway/sim/ground_truth_io.h"
@@ -174,6 +175,47 @@ TEST(GroundTruthFile, BadFilesAreRefused) {
   test::writeBytes(directory / "b.truth.json", R"({"format": "clearway-truth"})");
   EXPECT_THROW(loadGroundTruth(directory / "b.truth.json"), SceneError);
   EXPECT_THROW(loadGroundTruth(directory / "none.truth.json"), SceneError);
+}
+
+// The scanner's placement places the map for eval: a position of 1e308, a zero axis or a roll of
+// 1e9 deg were read as given and scored the map against a scene it was nowhere near.
+TEST(GroundTruthFile, ScannerPlacementNoScannerHasIsRefused) {
+  using nlohmann::json;
+  const Scene scene = *builtinScene("stairwell");
+  SensorModel sensor;
+  sensor.lines = 4;
+  const SimulatedScan simulated = simulateRosi(scene, sensor, defaultPlacement(scene));
+  test::TemporaryDirectory directory;
+  saveGroundTruth(simulated.truth, directory / "s.truth.json", "s.pcd");
+  const json truth = json::parse(test::readBytes(directory / "s.truth.json"));
+  for (const auto& [key, value, expected] : std::vector<std::tuple<std::string, json, std::string>>{
+           {"position",
+            {0, 0, 1e308},
+            "scanner.position = [0, 0, 1e+308] lies more than 10 km from the origin"},
+           {"position", {-2e4, 0, 1}, "scanner.position = [-20000, 0, 1] lies more than 10 km"},
+           {"position", {0, 0}, "scanner.position = [0,0] must be [x, y, z]"},
+           {"position", {0, "up", 1}, "scanner.position = [0,\"up\",1] must be [x, y, z]"},
+           {"axis", {0, 0, 0}, "scanner.axis = [0, 0, 0] is no direction"},
+           {"axis", {1, 0, 0, 5}, "scanner.axis = [1,0,0,5] must be [x, y, z]"},
+           {"axis_roll_deg", 1e9, "scanner.axis_roll_deg = 1e+09 is outside -360 .. 360"},
+           {"axis_roll_deg", "90", "scanner.axis_roll_deg = \"90\" is not a number"},
+       }) {
+    SCOPED_TRACE(key + " " + value.dump());
+    json changed = truth;
+    changed["scanner"][key] = value;
+    test::writeBytes(directory / "bad.truth.json", changed.dump());
+    try {
+      loadGroundTruth(directory / "bad.truth.json");
+      ADD_FAILURE() << "read";
+    } catch (const SceneError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("bad.truth.json: " + expected), std::string::npos) << message;
+    }
+  }
+  // Nor does the simulator write such a placement into a truth file.
+  ScannerPlacement far = defaultPlacement(scene);
+  far.position.z() = 1e308;
+  EXPECT_THROW(simulateRosi(scene, sensor, far), std::invalid_argument);
 }
 
 }  // namespace

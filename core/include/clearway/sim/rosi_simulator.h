@@ -87,6 +87,8 @@ inline int surfaceId(int primitive, int face) {
   return primitive * 8 + face;
 }
 
+// Throws std::invalid_argument for a placement that is no place (placementProblem) or inside one
+// of the scene's solids.
 SimulatedScan simulateRosi(const Scene& scene, const SensorModel& sensor,
                            const ScannerPlacement& placement,
                            const ProgressCallback& progress = {});
