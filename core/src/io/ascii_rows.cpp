@@ -87,6 +87,7 @@ void parseNumberRows(const std::filesystem::path& file, std::string_view text,
   std::size_t line_number = rules.lines_before;
   std::size_t rows = 0;
   bool header_allowed = rules.header_row_allowed;
+  std::size_t first_columns = 0, first_line = 0;  // the first row's
   const std::size_t min_columns = rules.min_columns;
   std::size_t next_report = 1 << 22;
   while (position < text.size()) {
@@ -114,6 +115,16 @@ void parseNumberRows(const std::filesystem::path& file, std::string_view text,
                                 "' writes its numbers with decimal commas; a scan's text needs a "
                                 "decimal point (1.48), numbers apart by spaces, tabs, commas or "
                                 "semicolons");
+    if (rows == 0) {
+      first_columns = std::size_t(columns);
+      first_line = line_number;
+    } else if (rules.same_columns && std::size_t(columns) != first_columns) {
+      throw ScanError(file, "line " + std::to_string(line_number) + " holds " +
+                                std::to_string(columns) + " numbers where line " +
+                                std::to_string(first_line) + ", the first row, holds " +
+                                std::to_string(first_columns) +
+                                ": every row needs as many (x y z, or x y z intensity)");
+    }
     row(values, std::size_t(columns));
     ++rows;
     if (position > next_report) {

@@ -307,6 +307,7 @@ Scan readPly(const std::filesystem::path& file, const LoadOptions& options) {
       NumberRowRules rules;
       rules.min_columns = vertex.properties.size();
       rules.header_row_allowed = false;  // the header said what follows: a word is an error
+      rules.same_columns = false;        // each vertex is checked against the properties below
       rules.lines_before = std::size_t(
           std::count(bytes.begin(), bytes.begin() + std::ptrdiff_t(header.body_offset), '\n'));
       parseNumberRows(

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <tuple>
 
 #include "clearway/io/scan_io.h"
 #include "clearway/pipeline.h"
@@ -195,6 +196,36 @@ TEST_F(MisreadFiles, DecimalCommasAreRefusedNotReadAsSeparators) {
   // Commas between numbers with a decimal point, and whole numbers apart by commas, are rows.
   EXPECT_EQ(loadScan(write("csv.txt", "1.5,0.0,0.1\n2.5,1.0,0.1\n")).size(), 2U);
   EXPECT_EQ(loadScan(write("whole.txt", "1,2,3\n4,5,6\n")).size(), 2U);
+}
+
+// Rows of x y z intensity after rows of x y z lost their intensity (the first row decided), and
+// rows of x y z after rows with intensity were given 0: a text scan's rows must all hold as many
+// numbers, or it is refused naming the line and both counts.
+TEST_F(MisreadFiles, TextRowsOfAnotherColumnCountAreRefused) {
+  for (const auto& [name, text, expected] :
+       {std::tuple{"three_then_four.xyz", std::string("1 2 3\n4 5 6\n7 8 9 0.5\n"),
+                   "line 3 holds 4 numbers where line 1, the first row, holds 3"},
+        std::tuple{"four_then_three.txt", std::string("x y z i\n# note\n1 2 3 0.5\n\n4 5 6\n"),
+                   "line 5 holds 3 numbers where line 3, the first row, holds 4"},
+        std::tuple{"four_then_three.3d", std::string("100 50 300 7\n200 50 300\n"),
+                   "line 2 holds 3 numbers where line 1, the first row, holds 4"}}) {
+    const std::string message = errorOf(write(name, text));
+    EXPECT_NE(message.find(expected), std::string::npos) << name << ": " << message;
+  }
+  // Beyond the first 64 kB the whole file's reading finds it too.
+  std::string rows;
+  for (int i = 0; i < 5000; ++i)
+    rows += std::to_string(1.0 + 0.001 * i) + " 2.0 0.5\n";
+  const std::string late = errorOf(write("late.xyz", rows + "1 2 3 0.5\n"));
+  EXPECT_NE(late.find("line 5001 holds 4 numbers where line 1, the first row, holds 3"),
+            std::string::npos)
+      << late;
+  // Comments, blank lines and a header between rows of one count stay what they were.
+  const Scan kept =
+      loadScan(write("kept.xyz", "x y z i\n1 2 3 0.5 # first\n\n# gap\n4 5 6 0.25\n"));
+  ASSERT_EQ(kept.size(), 2U);
+  ASSERT_EQ(kept.intensity.size(), 2U);
+  EXPECT_FLOAT_EQ(kept.intensity[1], 0.25F);
 }
 
 // x y z alone (12 bytes a point), five floats a point, or text, named .bin: loaded as a frame of
