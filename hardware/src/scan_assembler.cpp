@@ -1,6 +1,8 @@
 #include "scan_assembler.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <numbers>
 
@@ -182,9 +184,10 @@ std::size_t ScanAssembler::place() {
   return placed;
 }
 
-void ScanAssembler::finishIncomplete() {
+bool ScanAssembler::finishIncomplete() {
   stampLines(true);
   place();
+  if (complete_) return true;
   while (!complete_ && !pending_.empty()) {
     if (const auto angle = angleAt(pending_.front().time_us, true))
       append(*angle, pending_.front().ranges, pending_.front().telegram);
@@ -193,6 +196,7 @@ void ScanAssembler::finishIncomplete() {
     pending_.pop_front();
   }
   pending_.clear();
+  return false;
 }
 
 }  // namespace clearway::hardware::detail
@@ -216,6 +220,41 @@ void ScanAssembler::refine() {
     }
     line.beta = *angle * kDeg;
   }
+}
+
+}  // namespace clearway::hardware::detail
+
+namespace clearway::hardware::detail {
+
+std::string ScanAssembler::sweepProblem() const {
+  const std::vector<ScanLine>& lines = scan_.lines;
+  if (lines.size() < 3) return {};
+  std::vector<double> steps;
+  for (std::size_t l = 1; l < lines.size(); ++l)
+    steps.push_back((lines[l].beta - lines[l - 1].beta) / kDeg);
+  std::vector<double> sorted = steps;
+  const auto middle = sorted.begin() + std::ptrdiff_t(sorted.size() / 2);
+  std::nth_element(sorted.begin(), middle, sorted.end());
+  const double usual = *middle;
+  auto shown = [](double degrees) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.1f", degrees);
+    return std::string(text);
+  };
+  if (!(usual > 0.0)) return "the lines' angles do not move on: the table did not turn one way";
+  for (std::size_t k = 0; k < steps.size(); ++k) {
+    const std::string where =
+        " after line " + std::to_string(k + 1) + " of " + std::to_string(lines.size());
+    if (steps[k] <= 0.0)
+      return "the lines' angles fall back by " + shown(-steps[k]) + " deg" + where +
+             ": the acquisition was held up (the computer paused or overloaded) and what it read "
+             "afterwards cannot be placed";
+    if (steps[k] > kLargestLineStepFactor * usual)
+      return "the lines' angles jump " + shown(steps[k]) + " deg" + where + " (usually " +
+             shown(usual) +
+             "): lines are missing there (the acquisition was held up, or lines were lost)";
+  }
+  return {};
 }
 
 }  // namespace clearway::hardware::detail

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <deque>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "clearway/hardware/turntable_protocol.h"
@@ -74,11 +75,23 @@ class ScanAssembler {
   // Places the waiting lines whose time lies within the sampled angles (needs two samples).
   // Returns how many were placed. Lines after completion are ignored.
   std::size_t place();
-  // The scan ends incomplete: lines close to the sampled span get an extrapolated angle.
-  void finishIncomplete();
+  // The scan ends before it was seen complete: the lines still waiting for their stamp are placed,
+  // and true when they complete it by the sampled angles (the lines of a full turn had arrived;
+  // the last kStampLag of them wait for later telegrams, and a device that fell silent just after
+  // the turn left a complete scan called partial). Otherwise lines close to the sampled span get
+  // an extrapolated angle, and false.
+  bool finishIncomplete();
   // Once the scan has ended: every line's beta again from its final stamp (LineClock); the
   // stamps given while it ran could only use the telegrams that had arrived.
   void refine();
+
+  // Why the placed lines are no sweep of the table (empty when they are): the table turns one way
+  // at a steady speed, so each line's angle lies about one step beyond the line's before it. A
+  // line that falls back, or lies more than kLargestLineStepFactor steps beyond, was placed by
+  // angles or times that cannot be trusted (a host held up for seconds, its backlog read in one
+  // burst: 157 lines with a 113 deg jump back were saved as a complete turn).
+  std::string sweepProblem() const;
+  static constexpr double kLargestLineStepFactor = 3.0;
 
   bool complete() const { return complete_; }
   double turnedDeg() const { return turned_deg_; }

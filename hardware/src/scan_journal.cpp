@@ -288,8 +288,15 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
     }
   }
   if (!assembler) throw ScanError(file, "the journal holds no scan (it ends before TARGET)");
-  if (!result.complete) assembler->finishIncomplete();
+  // The lines still waiting for their stamps are placed as the acquisition placed them at its end
+  // (a turn completed by them was saved as complete).
+  const bool lines_complete = assembler->complete() || assembler->finishIncomplete();
   assembler->refine();
+  // The acquisition that wrote the journal judged its lines as these are judged here.
+  if (const std::string problem = assembler->sweepProblem(); result.complete && !problem.empty()) {
+    result.complete = false;
+    result.error = problem;
+  }
   result.untagged_lines = assembler->untagged();
   result.scan = std::move(assembler->scan());
   if (result.pose) result.scan.sensor_pose = sensorPoseOf(result.pose->world_from_scanner);
@@ -303,6 +310,10 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
   if (result.complete && result.lines_received < std::size_t(target)) {
     result.error = "the journal ends 'complete' after " + std::to_string(result.lines_received) +
                    " of its " + std::to_string(target) + " lines";
+    result.complete = false;
+  }
+  if (result.complete && !lines_complete) {
+    result.error = "the journal ends 'complete' but its lines make no complete scan";
     result.complete = false;
   }
   result.complete = result.complete && result.dropped_lines == 0 && ended;

@@ -380,8 +380,16 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   // Stop the devices whatever happened; they may not answer any more.
   laser.release();
   table.stop();
-  if (!result.complete) assembler.finishIncomplete();
+  // A full turn whose last lines had arrived is complete, whatever ended the loop after them.
+  if (!result.complete && assembler.finishIncomplete()) {
+    result.complete = true;
+    error.clear();
+  }
   assembler.refine();
+  if (const std::string problem = assembler.sweepProblem(); result.complete && !problem.empty()) {
+    result.complete = false;
+    error = problem;
+  }
   result.untagged_lines = assembler.untagged();
   const ScanMetadata metadata = result.scan.metadata;
   result.scan = std::move(assembler.scan());

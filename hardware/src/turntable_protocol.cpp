@@ -59,11 +59,13 @@ void AngleTrack::add(const AngleSample& sample) {
   if (!times_.empty() && sample.time_us <= times_.back()) return;
   double unwrapped = sample.angle_deg;
   if (!unwrapped_.empty()) {
-    // The table turns one way; a step back of more than half a turn is a wrap past 360 deg.
+    // The table turns one way: the angle moves on from the previous sample's, by however much
+    // (a host held up for 6 s read its next sample 228 deg on, which the nearest turn made 132
+    // deg back), and falls back by at most a reading's jitter.
     const double previous = unwrapped_.back();
     const double turns = std::floor(previous / 360.0);
     unwrapped = turns * 360.0 + sample.angle_deg;
-    while (unwrapped < previous - 180.0)
+    while (unwrapped < previous - kLargestStepBackDeg)
       unwrapped += 360.0;
   }
   times_.push_back(sample.time_us);

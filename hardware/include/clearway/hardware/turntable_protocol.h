@@ -47,6 +47,9 @@ std::optional<Reply> parseReply(const std::string& line);
 // is interpolated linearly.
 class AngleTrack {
  public:
+  // The table turns one way: a sample up to this far behind the previous one is a reading's
+  // jitter; one farther behind has wrapped past 360 deg, however far it moved on [deg].
+  static constexpr double kLargestStepBackDeg = 10.0;
   // Samples must come in time order; older or equal times are ignored.
   void add(const AngleSample& sample);
   // Unwrapped angle [deg] at `time_us`, or nullopt outside the sampled span.

@@ -1,0 +1,103 @@
+// How a scan is put together from the two streams the host reads, each stamped on arrival: a full
+// turn is complete even when the device falls silent right after it, and lines placed by angles
+// or times that cannot be trusted (a host held up for seconds) never make a complete scan.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdint>
+
+#include "../../../hardware/src/scan_assembler.h"
+#include "clearway/hardware/turntable_protocol.h"
+
+namespace clearway::hardware {
+namespace {
+
+constexpr double kLinePeriodUs = 1e6 / 37.5;  // the LMS200's 37.5 lines/s
+constexpr double kSamplePeriodUs = 20'000.0;  // the table's angle samples
+constexpr double kTableDegPerS = 40.0;
+// A full turn: 360 / 40 = 9 s, 337.5 lines.
+constexpr double kTurnUs = 360.0 / kTableDegPerS * 1e6;
+
+// Feeds what the host read between `from_us` and `to_us` (measured times), every line and sample
+// arriving `late_us` after it was measured, or at `read_at_us` when that is later (a backlog read
+// in one burst). Lines are numbered from the start of the scan, as the laser sends them.
+void feed(detail::ScanAssembler& assembler, double from_us, double to_us, double read_at_us = 0.0) {
+  constexpr double kLateUs = 2'000.0;
+  for (double t = std::ceil(from_us / kSamplePeriodUs) * kSamplePeriodUs; t < to_us;
+       t += kSamplePeriodUs)
+    assembler.addAngle({std::int64_t(std::max(t + kLateUs, read_at_us)),
+                        std::fmod(kTableDegPerS * t / 1e6, 360.0)});
+  for (double t = std::ceil(from_us / kLinePeriodUs) * kLinePeriodUs; t < to_us;
+       t += kLinePeriodUs) {
+    assembler.addLine(std::int64_t(std::max(t + kLateUs, read_at_us)),
+                      detail::LineRanges(detail::kRosiPoints, 3.0));
+    assembler.place();
+  }
+}
+
+TEST(ScanAssembly, AnUndisturbedTurnIsOneSweep) {
+  detail::ScanAssembler assembler(0);
+  feed(assembler, 0.0, kTurnUs + 2e6);
+  ASSERT_TRUE(assembler.complete());
+  assembler.refine();
+  EXPECT_EQ(assembler.sweepProblem(), "");
+}
+
+// The last kStampLag lines of a turn wait for later telegrams to be stamped: a laser that fell
+// silent just after the turn left them waiting, and the turn was saved as a partial scan.
+TEST(ScanAssembly, AFullTurnWhoseLastLinesAwaitTheirStampsIsComplete) {
+  detail::ScanAssembler assembler(0);
+  // Every line up to a few past the turn, the angles on for a second more.
+  feed(assembler, 0.0, kTurnUs + 3 * kLinePeriodUs);
+  for (double t = kTurnUs + 4 * kLinePeriodUs; t < kTurnUs + 1e6; t += kSamplePeriodUs)
+    assembler.addAngle({std::int64_t(t + 2'000.0), std::fmod(kTableDegPerS * t / 1e6, 360.0)});
+  assembler.place();
+  ASSERT_FALSE(assembler.complete()) << "the last lines wait for their stamps";
+  EXPECT_TRUE(assembler.finishIncomplete());
+  EXPECT_TRUE(assembler.complete());
+  EXPECT_GE(assembler.turnedDeg(), 360.0);
+}
+
+// The same silence before the turn is done: the lines are placed, and the scan is not complete.
+TEST(ScanAssembly, ATurnCutShortIsNotCompletedByItsWaitingLines) {
+  detail::ScanAssembler assembler(0);
+  feed(assembler, 0.0, kTurnUs - 40 * kLinePeriodUs);
+  EXPECT_FALSE(assembler.finishIncomplete());
+  EXPECT_FALSE(assembler.complete());
+}
+
+// The host held up for 6 s (a paused or overloaded computer): nothing was read meanwhile, the
+// laser's and the table's buffered output came in one burst after it. The lines read then cannot
+// be placed; 157 lines with a 113 deg jump back were saved as a complete turn.
+TEST(ScanAssembly, AHostHeldUpForSecondsLeavesNoCompleteSweep) {
+  detail::ScanAssembler assembler(0);
+  constexpr double kHeldFromUs = 3e6, kHeldForUs = 6e6;
+  feed(assembler, 0.0, kHeldFromUs);
+  // What the devices' buffers kept of the pause (its last half second), read at its end; then on.
+  feed(assembler, kHeldFromUs + kHeldForUs - 0.5e6, kHeldFromUs + kHeldForUs,
+       kHeldFromUs + kHeldForUs);
+  feed(assembler, kHeldFromUs + kHeldForUs, 2 * kTurnUs);
+  if (!assembler.complete()) assembler.finishIncomplete();
+  assembler.refine();
+  const std::string problem = assembler.sweepProblem();
+  EXPECT_NE(problem, "");
+  EXPECT_NE(problem.find("after line"), std::string::npos) << problem;
+}
+
+// The table turns one way: a sample 228 deg on (a host held up for 6 s) has moved on, not 132 deg
+// back.
+TEST(ScanAssembly, TheTablesAngleMovesOnHoweverFar) {
+  turntable::AngleTrack track;
+  track.add({0, 300.0});
+  track.add({20'000, 300.8});
+  track.add({6'000'000, 168.8});  // 228 deg on, past 360
+  EXPECT_NEAR(*track.angleAt(6'000'000), 528.8, 1e-9);
+  track.add({6'020'000, 168.7});  // a reading's jitter back
+  EXPECT_NEAR(*track.angleAt(6'020'000), 528.7, 1e-9);
+  track.add({6'040'000, 169.5});
+  EXPECT_NEAR(*track.angleAt(6'040'000), 529.5, 1e-9);
+}
+
+}  // namespace
+}  // namespace clearway::hardware
