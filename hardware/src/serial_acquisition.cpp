@@ -48,11 +48,18 @@ std::string wrongDeviceReason(const std::string& path, const std::string& bytes)
   return reason + ": are the laser and turntable ports swapped?";
 }
 
-// Sends a request and waits for the scanner's ACK and its reply telegram with `reply_command`.
+// Whether the stop descriptor (a signal's self-pipe; -1: none) asks to stop.
+bool stopRequested(int stop_fd) {
+  return stop_fd >= 0 && waitReadable(stop_fd, 0);
+}
+
+// Sends a request and waits for the scanner's ACK and its reply telegram with `reply_command`,
+// or until `stop_fd` asks to stop (a silent laser with a long --timeout ignored Ctrl-C for 40 s).
 std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
                                         const lms200::Bytes& telegram, std::uint8_t reply_command,
                                         int timeout_ms, std::string& error,
-                                        std::vector<lms200::ParseEvent>* after_reply = nullptr) {
+                                        std::vector<lms200::ParseEvent>* after_reply = nullptr,
+                                        int stop_fd = -1) {
   if (!lms.send(telegram)) {
     error = "cannot write to " + lms.path();
     return std::nullopt;
@@ -61,6 +68,10 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
   std::string unrecognised;  // what came back while no telegram did: tells a wrong device apart
   bool any_telegram = false;
   while (Clock::now() < deadline) {
+    if (stopRequested(stop_fd)) {
+      error = "stopped by a signal";
+      return std::nullopt;
+    }
     if (!waitReadable(lms.fd(), 20)) continue;
     const std::string bytes = lms.readAvailable();
     if (unrecognised.size() < 256) unrecognised += bytes;
@@ -93,12 +104,12 @@ std::optional<lms200::Telegram> request(SerialPort& lms, lms200::Parser& parser,
 // NAK: the first command was "refused". If anything arrives unasked, the laser is told to stop
 // its output (values on request) and the line is drained until it has been quiet a while. False
 // when it never went quiet: the laser did not understand (it sends at another speed).
-bool quietTheLaser(SerialPort& lms, int timeout_ms) {
+bool quietTheLaser(SerialPort& lms, int timeout_ms, int stop_fd) {
   constexpr int kQuietMs = 60;  // silence that says nothing more is coming
   if (!waitReadable(lms.fd(), kQuietMs)) return true;
   lms.send(lms200::changeOperatingMode(lms200::kModeValuesOnRequest));
   const auto deadline = Clock::now() + std::chrono::milliseconds(timeout_ms);
-  while (Clock::now() < deadline) {
+  while (Clock::now() < deadline && !stopRequested(stop_fd)) {
     if (!waitReadable(lms.fd(), kQuietMs)) return true;
     lms.readAvailable();
   }
@@ -111,13 +122,15 @@ bool quietTheLaser(SerialPort& lms, int timeout_ms) {
 // it at another. Tried in turn: 9600, the speed this acquisition wants (what a killed one of ours
 // left), the others. Returns the speed it answered at.
 std::optional<LinkSpeed> findTheLaser(SerialPort& lms, lms200::Parser& parser,
-                                      const LinkSpeed& wanted, int timeout_ms, std::string& error) {
+                                      const LinkSpeed& wanted, int timeout_ms, int stop_fd,
+                                      std::string& error) {
   std::vector<LinkSpeed> order = {kPowerUpSpeed, wanted};
   for (const LinkSpeed& speed : kLinkSpeeds)
     order.push_back(speed);
   std::string first_error, tried;
   std::vector<int> tried_bauds;
   for (const LinkSpeed& speed : order) {
+    if (stopRequested(stop_fd)) break;
     if (std::find(tried_bauds.begin(), tried_bauds.end(), speed.baud) != tried_bauds.end())
       continue;
     if (!lms.setSpeed(speed.speed)) continue;  // a port that cannot run at this speed
@@ -125,10 +138,11 @@ std::optional<LinkSpeed> findTheLaser(SerialPort& lms, lms200::Parser& parser,
     tried += (tried.empty() ? "" : ", ") + std::to_string(speed.baud);
     parser = lms200::Parser{};  // nothing heard at another speed carries over
     std::string attempt_error;
-    if (!quietTheLaser(lms, timeout_ms))
+    if (!quietTheLaser(lms, timeout_ms, stop_fd))
       attempt_error = "the laser scanner's line on " + lms.path() + " never went quiet at " +
                       std::to_string(speed.baud) + " baud (a laser sending at another speed?)";
-    else if (request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout_ms, attempt_error))
+    else if (request(lms, parser, lms200::enterInstallationMode(), 0xA0, timeout_ms, attempt_error,
+                     nullptr, stop_fd))
       return speed;
     if (first_error.empty()) first_error = attempt_error;
   }
@@ -177,10 +191,6 @@ class LaserSession {
   bool released_ = false;
 };
 
-bool stopRequested(int stop_fd) {
-  return stop_fd >= 0 && waitReadable(stop_fd, 0);
-}
-
 }  // namespace
 
 Acquisition acquireRosiScan(const std::string& lms_port, const std::string& turntable_port,
@@ -217,12 +227,19 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   };
   // The laser: found at its speed in installation mode, switched to the link speed and the
   // 180 deg / 0.5 deg variant.
-  const std::optional<LinkSpeed> found = findTheLaser(lms, parser, *link, timeout, error);
-  if (!found) return result;
+  const std::optional<LinkSpeed> found =
+      findTheLaser(lms, parser, *link, timeout, options.stop_fd, error);
+  if (!found) {
+    interrupted();  // says so, where a stop ended the search
+    return result;
+  }
   LaserSession laser(lms, parser, timeout);
   laser.atSpeed(*found);
-  if (!request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error))
+  if (!request(lms, parser, lms200::changeOperatingMode(link->mode), 0xA0, timeout, error, nullptr,
+               options.stop_fd)) {
+    interrupted();
     return result;
+  }
   laser.atSpeed(*link);
   if (!lms.setSpeed(link->speed)) {
     // The laser now talks at a speed this port cannot follow (an adapter without 500,000 baud):
@@ -233,7 +250,9 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     laser.lost();
     return result;
   }
-  if (!request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error) || interrupted())
+  if (!request(lms, parser, lms200::switchVariant(180, 50), 0xBB, timeout, error, nullptr,
+               options.stop_fd) ||
+      interrupted())
     return result;
   // The table: home, speed, turn.
   error = table.home(timeout);
