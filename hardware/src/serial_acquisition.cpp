@@ -371,6 +371,20 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
       laser.lost();
       break;
     }
+    // Both silent for most of the timeout: the whole RoSi hung (its power, its shared cable), not
+    // the one whose clock ran out first (a stall was blamed on the turntable alone).
+    const auto quiet_a_while = [&](Clock::time_point since) {
+      return Clock::now() - since > std::chrono::milliseconds(timeout / 2);
+    };
+    if ((silent(last_line) || silent(last_angle)) && quiet_a_while(last_line) &&
+        quiet_a_while(last_angle)) {
+      error =
+          "neither the laser scanner nor the turntable sends anything (the whole RoSi hung, or "
+          "its power or cable)" +
+          so_far;
+      laser.lost();
+      break;
+    }
     if (silent(last_line)) {
       error = "the laser scanner stopped answering" + so_far;
       laser.lost();
