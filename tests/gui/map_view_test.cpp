@@ -4,11 +4,14 @@
 // careful/obstacle with hatching.
 
 #include <QLabel>
+#include <QPaintEngine>
+#include <QRegularExpression>
 #include <QSettings>
 #include <QSignalSpy>
 #include <QStandardPaths>
 #include <QStatusBar>
 #include <QtTest>
+#include <climits>
 #include <cmath>
 
 #include "clearway/ui/main_window.h"
@@ -40,6 +43,65 @@ void drag(QWidget* widget, QPoint from, QPoint to) {
   QMouseEvent move(QEvent::MouseMove, to, Qt::LeftButton, Qt::LeftButton, Qt::NoModifier);
   QApplication::sendEvent(widget, &move);
   QTest::mouseRelease(widget, Qt::LeftButton, Qt::NoModifier, to);
+}
+
+// Every text a widget draws when it paints, in the order drawn: the words as the operator reads
+// them, with no image to read them from.
+class DrawnTexts : public QPaintDevice {
+ public:
+  explicit DrawnTexts(QSize size) : size_(size) {}
+  QPaintEngine* paintEngine() const override { return &engine_; }
+  const QStringList& texts() const { return engine_.texts; }
+
+ protected:
+  int metric(PaintDeviceMetric metric) const override {
+    switch (metric) {
+      case PdmWidth:
+        return size_.width();
+      case PdmHeight:
+        return size_.height();
+      case PdmWidthMM:
+        return size_.width() * 254 / 960;
+      case PdmHeightMM:
+        return size_.height() * 254 / 960;
+      case PdmNumColors:
+        return INT_MAX;
+      case PdmDepth:
+        return 32;
+      case PdmDevicePixelRatio:
+        return 1;
+      case PdmDevicePixelRatioScaled:
+        return int(QPaintDevice::devicePixelRatioFScale());
+      default:  // the dots per inch
+        return 96;
+    }
+  }
+
+ private:
+  struct Engine : QPaintEngine {
+    Engine() : QPaintEngine(QPaintEngine::AllFeatures) {}
+    bool begin(QPaintDevice*) override { return true; }
+    bool end() override { return true; }
+    void updateState(const QPaintEngineState&) override {}
+    void drawPixmap(const QRectF&, const QPixmap&, const QRectF&) override {}
+    void drawImage(const QRectF&, const QImage&, const QRectF&, Qt::ImageConversionFlags) override {
+    }
+    void drawPath(const QPainterPath&) override {}
+    void drawPolygon(const QPointF*, int, PolygonDrawMode) override {}
+    void drawTextItem(const QPointF&, const QTextItem& item) override { texts << item.text(); }
+    Type type() const override { return QPaintEngine::User; }
+    QStringList texts;
+  };
+  QSize size_;
+  mutable Engine engine_;
+};
+
+QStringList textsDrawnBy(QWidget* widget) {
+  DrawnTexts device(widget->size());
+  QPainter painter(&device);
+  widget->render(&painter);
+  painter.end();
+  return device.texts();
 }
 
 }  // namespace
@@ -157,6 +219,30 @@ class MapViewTest : public QObject {
     QVERIFY(std::abs(exact.at(0).toDouble() - 0.8) < 1e-12);
     QCOMPARE(exact.at(1).toDouble(), 0.0);
     QCOMPARE(window_->statusBar()->currentMessage(), QString("Distance: 0.80 m"));
+    map->setMeasuring(false);
+  }
+
+  // The label drawn on the map and the status bar gave one measurement two ways (5.08 m on the
+  // map, 5.1 m below it): both write it as precisely as the clicks were placed.
+  void theMapsLabelSaysTheDistanceAsTheStatusBarDoes() {
+    MapView* map = window_->mapView();
+    map->fit();
+    QVERIFY2(1.0 / map->pixelsPerMetre() > 0.005,  // clicks good to worse than 5 mm
+             qPrintable(QString::number(map->pixelsPerMetre())));
+    map->setMeasuring(true);
+    click(map, map->toWidget(0.0, -2.0).toPoint());
+    click(map, map->toWidget(3.0, 2.0).toPoint());
+    const QString said = window_->statusBar()->currentMessage();
+    const QRegularExpressionMatch distance =
+        QRegularExpression("^Distance: ([0-9.]+ m)").match(said);
+    QVERIFY2(distance.hasMatch(), qPrintable(said));
+    const QStringList drawn = textsDrawnBy(map);
+    QVERIFY2(drawn.contains(distance.captured(1)),
+             qPrintable(said + " | on the map: " + drawn.join(" | ")));
+    // Given exactly, both say two decimals.
+    map->measureBetween(QPointF(0.0, -2.0), QPointF(3.0, 2.0));
+    QCOMPARE(window_->statusBar()->currentMessage(), QString("Distance: 5.00 m"));
+    QVERIFY2(textsDrawnBy(map).contains("5.00 m"), qPrintable(textsDrawnBy(map).join(" | ")));
     map->setMeasuring(false);
   }
 

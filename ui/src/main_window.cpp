@@ -23,6 +23,7 @@
 
 #include "clearway/scan_summary.h"
 #include "clearway/ui/hardware_panel.h"
+#include "clearway/ui/map_drawing.h"
 #include "clearway/ui/map_view.h"
 #include "clearway/ui/parameters_dialog.h"
 #include "clearway/ui/pose_dialog.h"
@@ -213,11 +214,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
     }
     d_->hover->setText(text);
   });
-  // Two decimals only where the clicks are that good: at a zoom of 3 cm a pixel a 0.80 m door
-  // measured 0.83 m, and read as wider than it is.
+  // Written as the label in the view that measured it writes it (distanceInWords).
   const auto show_distance = [this](double metres, double uncertainty) {
-    const int decimals = uncertainty <= 0.005 ? 2 : 1;
-    QString text = tr("Distance: %1 m").arg(metres, 0, 'f', decimals);
+    QString text = tr("Distance: %1").arg(distanceInWords(metres, uncertainty));
     if (uncertainty > 0.0)
       text += tr(" (± %1 m at this zoom: zoom in to measure finer)").arg(uncertainty, 0, 'f', 2);
     statusBar()->showMessage(text);

@@ -11,6 +11,8 @@ constexpr double kMinGridSpacingPx = 8.0;
 // Path footprints are drawn every this many metres along the path.
 constexpr double kFootprintSpacing = 0.5;
 const QColor kRobotColour(40, 120, 255);
+// A distance measured this well [m] or better is written to the centimetre, else to 10 cm.
+constexpr double kTwoDecimalsUncertainty = 0.005;
 
 double niceLength(double metres) {
   const double power = std::pow(10.0, std::floor(std::log10(metres)));
@@ -118,8 +120,12 @@ void drawPath(QPainter& painter, const QTransform& map_to_picture,
   painter.restore();
 }
 
-void drawMeasurement(QPainter& painter, const QTransform& map_to_picture, QPointF from,
-                     QPointF to) {
+QString distanceInWords(double metres, double uncertainty) {
+  return QObject::tr("%1 m").arg(metres, 0, 'f', uncertainty <= kTwoDecimalsUncertainty ? 2 : 1);
+}
+
+void drawMeasurement(QPainter& painter, const QTransform& map_to_picture, QPointF from, QPointF to,
+                     double uncertainty) {
   painter.save();
   painter.setRenderHint(QPainter::Antialiasing);
   const QPointF a = map_to_picture.map(from), b = map_to_picture.map(to);
@@ -129,7 +135,7 @@ void drawMeasurement(QPainter& painter, const QTransform& map_to_picture, QPoint
   painter.drawEllipse(a, 3, 3);
   painter.drawEllipse(b, 3, 3);
   const double metres = std::hypot(to.x() - from.x(), to.y() - from.y());
-  const QString text = QObject::tr("%1 m").arg(metres, 0, 'f', 2);
+  const QString text = distanceInWords(metres, uncertainty);
   const QPointF middle = (a + b) / 2 + QPointF(6, -6);
   QRectF box = painter.fontMetrics().boundingRect(text);
   box.moveBottomLeft(middle);

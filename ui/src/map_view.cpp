@@ -113,7 +113,8 @@ void MapView::setMeasuring(bool on) {
 
 void MapView::measureBetween(const QPointF& from, const QPointF& to) {
   measure_points_ = {from, to};
-  emit measured(std::hypot(to.x() - from.x(), to.y() - from.y()), 0.0);
+  measure_uncertainty_ = 0.0;
+  emit measured(std::hypot(to.x() - from.x(), to.y() - from.y()), measure_uncertainty_);
   update();
 }
 
@@ -250,9 +251,10 @@ void MapView::paintEvent(QPaintEvent*) {
     drawRobot(painter, to_widget, robot_pose_, result_->robot);
   if (cursor_inside_ && !measuring_) drawFootprintAtCursor(painter);
   if (measure_points_.size() == 2)
-    drawMeasurement(painter, to_widget, measure_points_[0], measure_points_[1]);
+    drawMeasurement(painter, to_widget, measure_points_[0], measure_points_[1],
+                    measure_uncertainty_);
   else if (measure_points_.size() == 1 && cursor_inside_)
-    drawMeasurement(painter, to_widget, measure_points_[0], cursor_map_);
+    drawMeasurement(painter, to_widget, measure_points_[0], cursor_map_, 1.0 / pixels_per_metre_);
 
   drawScaleBar(painter, QPointF(14, height() - 12), pixels_per_metre_);
   drawLegend(painter, QPoint(10, 10), palette_);
@@ -322,10 +324,13 @@ void MapView::mouseReleaseEvent(QMouseEvent* event) {
   if (measuring_) {
     if (measure_points_.size() == 2) measure_points_.clear();
     measure_points_.push_back(map);
-    if (measure_points_.size() == 2)
+    if (measure_points_.size() == 2) {
+      // Good to the size of a pixel at the zoom the clicks were made at, whatever zoom follows.
+      measure_uncertainty_ = 1.0 / pixels_per_metre_;
       emit measured(std::hypot(measure_points_[1].x() - measure_points_[0].x(),
                                measure_points_[1].y() - measure_points_[0].y()),
-                    1.0 / pixels_per_metre_);
+                    measure_uncertainty_);
+    }
     update();
     return;
   }

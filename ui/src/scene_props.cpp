@@ -20,6 +20,7 @@
 
 #include "clearway/point_class.h"
 #include "clearway/scene/scene_geometry.h"
+#include "clearway/ui/map_drawing.h"
 
 namespace clearway::ui::scene {
 namespace {
@@ -345,7 +346,8 @@ std::vector<vtkSmartPointer<vtkProp>> measurementProps(const Eigen::Vector3d& fr
   auto actor = line.actor(true);
   actor->GetProperty()->SetLineWidth(3);
   actor->GetProperty()->SetRenderLinesAsTubes(true);
-  return {actor, label3d(QObject::tr("%1 m").arg((to - from).norm(), 0, 'f', 2),
+  // Picked points are exact: written as the status bar writes a distance given exactly.
+  return {actor, label3d(distanceInWords((to - from).norm(), 0.0),
                          (from + to) / 2 + Eigen::Vector3d(0, 0, 0.15), white, 16)};
 }
 

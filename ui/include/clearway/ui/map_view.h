@@ -115,6 +115,7 @@ class MapView : public QWidget {
   QString stale_note_;
   bool measuring_ = false;
   std::vector<QPointF> measure_points_;  // 0, 1 or 2 map positions
+  double measure_uncertainty_ = 0.0;     // of the two points' distance, as `measured` gave it
 };
 
 }  // namespace clearway::ui
