@@ -8,6 +8,7 @@
 #include <QLabel>
 #include <QLineEdit>
 #include <QListWidget>
+#include <QMessageBox>
 #include <QMimeData>
 #include <QPushButton>
 #include <QSettings>
@@ -45,6 +46,20 @@ void simulateInto(const QString& path, const std::string& scene_name) {
       path.toStdString());
 }
 
+// What a scan file holds when it is damaged: a PCD header promising a million points, then none.
+void writeCorruptScan(const QString& path) {
+  QFile file(path);
+  QVERIFY(file.open(QIODevice::WriteOnly | QIODevice::Truncate));
+  file.write(
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1000000\nHEIGHT 1\nDATA "
+      "binary\nxx");
+}
+
+void closeErrorDialogs(QWidget& window) {
+  for (auto* dialog : window.findChildren<QMessageBox*>("errorDialog"))
+    dialog->close();
+}
+
 }  // namespace
 
 class ReviewAndExportTest : public QObject {
@@ -66,6 +81,9 @@ class ReviewAndExportTest : public QObject {
     note.write("Source: the simulator's garage and hallway.\n");
   }
 
+  // Each test starts with no recent scans.
+  void init() { QSettings().clear(); }
+
   void nextAndPreviousWalkTheFolderAndTheRecentListRemembers() {
     MainWindow window;
     window.show();
@@ -84,6 +102,68 @@ class ReviewAndExportTest : public QObject {
     QCOMPARE(recent->count(), 2);
     QVERIFY(recent->item(0)->text().endsWith("b_hallway.pcd"));
     QCOMPARE(ScanPanel::scansInFolder(directory_.path()).size(), 2);
+  }
+
+  // A scan that failed to open is where the operator stands in its folder: Next went back to it
+  // (Next re-opened the same broken file from the scan shown before, again and again) and
+  // Previous could not reach the scan before it. It is not put in the recent list as opened, and
+  // a recent entry that no longer opens says so.
+  void nextAndPreviousMoveOnFromAScanThatFailedToOpen() {
+    QTemporaryDir folder;
+    QVERIFY(folder.isValid());
+    QVERIFY(QFile::copy(directory_.filePath("a_garage.pcd"), folder.filePath("a_garage.pcd")));
+    writeCorruptScan(folder.filePath("b_broken.pcd"));
+    QVERIFY(QFile::copy(directory_.filePath("b_hallway.pcd"), folder.filePath("c_hallway.pcd")));
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    QSignalSpy failed(&window, &MainWindow::failureShown);
+    auto* next = window.findChild<QPushButton*>("nextScanButton");
+    auto* previous = window.findChild<QPushButton*>("previousScanButton");
+    auto* recent = window.findChild<QListWidget*>("recentScans");
+    window.openScan(folder.filePath("a_garage.pcd"));
+    QVERIFY(shown.wait(kTimeoutMs));
+    next->click();
+    QVERIFY(failed.wait(kTimeoutMs));
+    closeErrorDialogs(window);
+    QVERIFY(failed.takeFirst().at(0).toString().contains("b_broken.pcd"));
+    // The recent list names what opened, the broken file not among it.
+    QCOMPARE(recent->count(), 1);
+    QVERIFY(recent->item(0)->text().endsWith("a_garage.pcd"));
+    // Next moves on past the broken file, to the scan after it.
+    QVERIFY(next->isEnabled());
+    next->click();
+    QVERIFY(shown.wait(kTimeoutMs));
+    QCOMPARE(failed.count(), 0);
+    QVERIFY2(window.windowTitle().contains("c_hallway.pcd"), qPrintable(window.windowTitle()));
+    // Back through it: Previous goes to the broken file, then on to the one before it.
+    previous->click();
+    QVERIFY(failed.wait(kTimeoutMs));
+    closeErrorDialogs(window);
+    QVERIFY(previous->isEnabled());
+    previous->click();
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY2(window.windowTitle().contains("a_garage.pcd"), qPrintable(window.windowTitle()));
+    // A scan in the recent list that no longer opens stays where it was, marked, and opens from
+    // the list again once it is mended.
+    writeCorruptScan(folder.filePath("c_hallway.pcd"));
+    QCOMPARE(recent->count(), 2);
+    QListWidgetItem* hallway = recent->item(1);
+    QVERIFY(hallway->text().endsWith("c_hallway.pcd"));
+    emit recent->itemActivated(hallway);
+    QVERIFY(failed.wait(kTimeoutMs));
+    closeErrorDialogs(window);
+    QVERIFY(window.findChild<QLabel*>("scanInfo")->text().contains("c_hallway.pcd"));
+    QVERIFY(recent->item(0)->text().endsWith("a_garage.pcd"));
+    QVERIFY2(recent->item(1)->text().contains("could not be opened"),
+             qPrintable(recent->item(1)->text()));
+    QFile::remove(folder.filePath("c_hallway.pcd"));
+    QVERIFY(QFile::copy(directory_.filePath("b_hallway.pcd"), folder.filePath("c_hallway.pcd")));
+    emit recent->itemActivated(recent->item(1));
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(window.windowTitle().contains("c_hallway.pcd"));
+    QVERIFY(recent->item(0)->text().endsWith("c_hallway.pcd"));
+    QVERIFY(!recent->item(1)->text().contains("could not be opened"));
   }
 
   void droppingAScanOpensIt() {

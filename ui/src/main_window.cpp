@@ -278,6 +278,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   });
   connect(d_->session, &SegmentationSession::resultReady, this, &MainWindow::showResult);
   connect(d_->session, &SegmentationSession::failed, this, &MainWindow::showFailure);
+  // The file that failed is where the operator stands in its folder: Next moves on from it.
+  connect(d_->session, &SegmentationSession::openFailed, d_->scans, &ScanPanel::setFailed);
   connect(d_->session, &SegmentationSession::cancelled, this, &MainWindow::showCancelled);
   d_->age_timer.setInterval(kAgeRefreshMs);
   connect(&d_->age_timer, &QTimer::timeout, this, &MainWindow::updateAge);

@@ -3,6 +3,7 @@
 #include <QDir>
 #include <QFileInfo>
 #include <QHBoxLayout>
+#include <QHash>
 #include <QLabel>
 #include <QListWidget>
 #include <QPushButton>
@@ -29,7 +30,10 @@ struct ScanPanel::Private {
   QListWidget* recent = nullptr;
   QPushButton* previous = nullptr;
   QPushButton* next = nullptr;
+  // Where Previous/Next step from: the scan shown, or the file that last failed to open.
   QString current;
+  // Files that failed to open since, with why: marked in the recent list until they open.
+  QHash<QString, QString> failed;
 };
 
 ScanPanel::ScanPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Private>()) {
@@ -69,7 +73,7 @@ ScanPanel::ScanPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Pri
   layout->addWidget(new QLabel(tr("Recent scans"), this));
   d_->recent = new QListWidget(this);
   d_->recent->setObjectName("recentScans");
-  d_->recent->addItems(QSettings().value(kRecentKey).toStringList());
+  showRecent(QSettings().value(kRecentKey).toStringList());
   layout->addWidget(d_->recent);
   d_->previous->setEnabled(false);
   d_->next->setEnabled(false);
@@ -77,8 +81,9 @@ ScanPanel::ScanPanel(QWidget* parent) : QWidget(parent), d_(std::make_unique<Pri
   connect(open, &QPushButton::clicked, this, &ScanPanel::browseRequested);
   connect(d_->previous, &QPushButton::clicked, this, [this] { step(-1); });
   connect(d_->next, &QPushButton::clicked, this, [this] { step(+1); });
-  connect(d_->recent, &QListWidget::itemActivated, this,
-          [this](QListWidgetItem* item) { emit openRequested(item->text()); });
+  connect(d_->recent, &QListWidget::itemActivated, this, [this](QListWidgetItem* item) {
+    emit openRequested(item->data(Qt::UserRole).toString());
+  });
 }
 
 ScanPanel::~ScanPanel() = default;
@@ -108,6 +113,7 @@ void ScanPanel::clearCurrent() {
 
 void ScanPanel::setCurrent(const QString& path, const QString& summary, const QString& details) {
   d_->current = QFileInfo(path).absoluteFilePath();
+  d_->failed.remove(d_->current);
   d_->info->setText(summary);
   d_->details->setText(details);
   d_->show_details->setEnabled(!details.isEmpty());
@@ -117,8 +123,34 @@ void ScanPanel::setCurrent(const QString& path, const QString& summary, const QS
   while (recent.size() > kRecentScans)
     recent.removeLast();
   QSettings().setValue(kRecentKey, recent);
+  showRecent(recent);
+  followFolder();
+}
+
+void ScanPanel::setFailed(const QString& path, const QString& reason) {
+  // Previous/Next went on from the scan shown before: Next opened this file again and again.
+  d_->current = QFileInfo(path).absoluteFilePath();
+  d_->failed.insert(d_->current, reason);
+  clearCurrent();
+  d_->info->setText(tr("<b>%1</b> could not be opened: %2<br>No scan is shown.")
+                        .arg(QFileInfo(path).fileName().toHtmlEscaped(), reason.toHtmlEscaped()));
+  showRecent(QSettings().value(kRecentKey).toStringList());
+  followFolder();
+}
+
+void ScanPanel::showRecent(const QStringList& recent) {
   d_->recent->clear();
-  d_->recent->addItems(recent);
+  for (const QString& path : recent) {
+    auto* item = new QListWidgetItem(path, d_->recent);
+    item->setData(Qt::UserRole, path);
+    if (const auto failed = d_->failed.constFind(path); failed != d_->failed.constEnd()) {
+      item->setText(tr("%1 — could not be opened").arg(path));
+      item->setToolTip(*failed);
+    }
+  }
+}
+
+void ScanPanel::followFolder() {
   const QStringList scans = scansInFolder(QFileInfo(d_->current).absolutePath());
   const int index = int(scans.indexOf(d_->current));
   d_->previous->setEnabled(index > 0);

@@ -34,6 +34,7 @@ struct JobOutcome {
   SessionResult result;
   QString error;  // empty on success
   bool cancelled = false;
+  bool opened_file = false;  // the job loaded result.scan_path (not a re-run on a loaded scan)
 };
 
 // Shared between the GUI thread and one job: the job reads it through the progress callback.
@@ -46,6 +47,7 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
                           std::shared_ptr<JobControl> control) {
   JobOutcome outcome;
   outcome.result.scan_path = path;
+  outcome.opened_file = true;
   try {
     LoadOptions options;
     options.progress = [control](double f) {
@@ -144,6 +146,7 @@ SegmentationSession::SegmentationSession(QObject* parent)
       emit cancelled();
     } else if (!outcome.error.isEmpty()) {
       emit failed(outcome.error);
+      if (outcome.opened_file) emit openFailed(outcome.result.scan_path, outcome.error);
     } else {
       d_->current = outcome.result;
       emit progress(100, tr("Done"));

@@ -22,6 +22,10 @@ class ScanPanel : public QWidget {
   void setCurrent(const QString& path, const QString& summary, const QString& details = {});
   // No scan is shown (a failed or cancelled open).
   void clearCurrent();
+  // `path` could not be opened (`reason`): no scan is shown, Previous/Next step from it (it is
+  // where the operator stands in its folder), and it is not remembered as opened: in the recent
+  // list it keeps its place, marked "could not be opened", until it opens again.
+  void setFailed(const QString& path, const QString& reason);
   // Replaces the shown scan's summary alone (its age moves on), keeping the rest.
   void setSummary(const QString& summary);
   QStringList recentScans() const;
@@ -35,6 +39,8 @@ class ScanPanel : public QWidget {
 
  private:
   void step(int direction);
+  void showRecent(const QStringList& recent);
+  void followFolder();
   struct Private;
   std::unique_ptr<Private> d_;
 };

@@ -64,6 +64,8 @@ class SegmentationSession : public QObject {
   void progress(int percent, const QString& what);
   void resultReady(const clearway::ui::SessionResult& result);
   void failed(const QString& reason);
+  // The scan file `path` could not be opened (a load, not a re-run): follows its `failed`.
+  void openFailed(const QString& path, const QString& reason);
   // The operator cancelled the work: not a failure to report.
   void cancelled();
   void busyChanged(bool busy);
