@@ -159,6 +159,31 @@ class ConsoleTruthTest : public QObject {
              qPrintable(QString("scan progress still at %1").arg(bar->value())));
   }
 
+  // An acquisition cancelled halfway keeps its lines and shows them: the banner says the scan is
+  // partial, or its map reads as the whole place.
+  void aCancelledAcquisitionIsShownAsAPartialScan() {
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    HardwarePanel* panel = window.hardwarePanel();
+    panel->setScanFolder(directory_.filePath("acquired-partial"));
+    panel->setSpeedup(2);  // ~75 lines/s: slow enough to cancel halfway
+    auto* scan_button = window.findChild<QPushButton*>("scanButton");
+    panel->connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan_button->isEnabled(), kTimeoutMs);
+    QSignalSpy saved(panel, &HardwarePanel::scanSaved);
+    QSignalSpy arriving(panel, &HardwarePanel::linesArrived);
+    scan_button->click();
+    QTRY_VERIFY_WITH_TIMEOUT(arriving.count() >= 4, kTimeoutMs);
+    panel->cancelScan();
+    QVERIFY(saved.count() == 1 || saved.wait(kTimeoutMs));
+    QCOMPARE(saved.first().at(1).toBool(), false);
+    QVERIFY(shown.wait(kTimeoutMs));
+    auto* banner = window.findChild<QLabel*>("trustBanner");
+    QVERIFY(banner->isVisible());
+    QVERIFY2(banner->text().contains("Partial scan"), qPrintable(banner->text()));
+  }
+
   // A robot changed while a new scan was acquired re-ran the previous scan and showed its map in
   // full colour, "done", with green; "Can it get there?" then planned on it. The previous scan
   // stays greyed whatever is re-run on it, and refuses goals, until the new scan is shown.

@@ -61,6 +61,23 @@ QString simulate(const QTemporaryDir& directory, const std::string& scene_name, 
   return path;
 }
 
+// The garage as an acquisition that ended early leaves it: the first `kept` of 200 lines.
+QString partialGarage(const QTemporaryDir& directory, const QString& name, std::size_t kept) {
+  const clearway::sim::Scene scene = *clearway::sim::builtinScene("garage");
+  auto simulated = clearway::sim::simulateRosi(scene, clearway::sim::SensorModel{},
+                                               clearway::sim::defaultPlacement(scene));
+  clearway::Scan& scan = simulated.scan;
+  scan.lines.resize(std::min(kept, scan.lines.size()));
+  const std::size_t points = scan.lines.back().first + scan.lines.back().count;
+  scan.points.resize(points);
+  scan.status.resize(points);
+  if (!scan.intensity.empty()) scan.intensity.resize(points);
+  if (!scan.alpha.empty()) scan.alpha.resize(points);
+  const QString path = directory.filePath(name);
+  clearway::saveRosiPcd(scan, path.toStdString());
+  return path;
+}
+
 }  // namespace
 
 class MainWindowTest : public QObject {
@@ -116,6 +133,42 @@ class MainWindowTest : public QObject {
     QVERIFY(banner->isVisible());
     QVERIFY(banner->text().contains("no ground"));
     QCOMPARE(greenPixels(window.mapView()->image()), 0);
+  }
+
+  // A scan whose acquisition ended early covers part of the turn, and its map showed no more than
+  // a complete one's: the banner says it is partial, why it ended, and what that means. Known
+  // from the acquisition's record beside the scan (SCAN.acquisition.json), or, without one, from
+  // the name Clearway gives a partial scan (the console's rosi-...-partial.pcd).
+  void aPartialScanSaysSoInTheBanner() {
+    const QString recorded = partialGarage(directory_, "cut.partial.pcd", 90);
+    {
+      QFile report(directory_.filePath("cut.partial.acquisition.json"));
+      QVERIFY(report.open(QIODevice::WriteOnly));
+      report.write(R"({"version": 1, "scan": "cut.partial.pcd", "complete": false,
+          "reason": "the turntable sent no angle for 1000 ms", "lines": 90, "lines_received": 90,
+          "dropped_lines": 0, "untagged_lines": 0, "stopped_by_signal": false,
+          "pose_source": null})");
+    }
+    MainWindow window;
+    window.show();
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    auto* banner = window.findChild<QLabel*>("trustBanner");
+    window.openScan(recorded);
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(banner->isVisible());
+    QVERIFY2(banner->text().contains("Partial scan") &&
+                 banner->text().contains("the turntable sent no angle for 1000 ms") &&
+                 banner->text().contains("not free"),
+             qPrintable(banner->text()));
+    // No record beside it: the name the console gives a scan it did not finish.
+    window.openScan(partialGarage(directory_, "rosi-20240501-101500-000-partial.pcd", 90));
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY(banner->isVisible());
+    QVERIFY2(banner->text().contains("Partial scan"), qPrintable(banner->text()));
+    // A complete scan: no banner.
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    QVERIFY2(!banner->isVisible(), qPrintable(banner->text()));
   }
 
   // Ground found, but nothing green: the banner says why (amber, not the untrusted red).

@@ -35,6 +35,19 @@ QString nothingGreenBanner(const std::string& reason) {
   return text;
 }
 
+// A partial scan's line in the banner: that it is partial, why when its record says, and what
+// that means for the map.
+QString partialScanBanner(const SessionResult& shown) {
+  const QString why =
+      shown.partial_reason.isEmpty()
+          ? QObject::tr("the acquisition ended before the turn was complete")
+          : QObject::tr("the acquisition ended early (%1)").arg(shown.partial_reason);
+  return QObject::tr(
+             "Partial scan: %1. What the rest of the turn would have seen is unknown, not free: "
+             "scan again before planning there.")
+      .arg(why);
+}
+
 }  // namespace
 
 std::shared_ptr<const PipelineResult> withholdTraversable(const PipelineResult& result) {
@@ -73,21 +86,24 @@ void MainWindow::updateTrustBanner() {
   // The operator's ways out when the scan's own pose is missing: confirm, pick, type.
   const bool no_pose =
       analysis.pose_source == PoseSource::kEstimated || analysis.pose_source == PoseSource::kNone;
+  QStringList warnings;
   if (d_->withheld) {
-    d_->banner->setText(tr("Up direction estimated from the scan (confidence %1): confirm it or "
-                           "pick the floor. Nothing is shown as traversable until then.")
-                            .arg(analysis.up_confidence, 0, 'f', 2));
-    d_->trust_bar->setStyleSheet(kEstimatedStyle);
-  } else {
+    warnings << tr("Up direction estimated from the scan (confidence %1): confirm it or pick the "
+                   "floor. Nothing is shown as traversable until then.")
+                    .arg(analysis.up_confidence, 0, 'f', 2);
+  } else if (!result.trusted() || !result.reason.empty()) {
     // Untrusted: red. Trusted ground on which nothing is green (too sparse, or the robot fits
     // nowhere): amber, with the map's reason.
-    d_->banner->setText(nothingGreenBanner(result.reason));
-    d_->trust_bar->setStyleSheet(result.trusted() ? kEstimatedStyle : kUntrustedStyle);
+    warnings << nothingGreenBanner(result.reason);
   }
+  // Whatever else is said: part of the turn is missing, and its map would read as the whole place.
+  if (d_->shown.partial) warnings << partialScanBanner(d_->shown);
+  d_->banner->setText(warnings.join('\n'));
+  d_->trust_bar->setStyleSheet(result.trusted() ? kEstimatedStyle : kUntrustedStyle);
   d_->confirm_up->setVisible(d_->withheld);
   d_->pick_floor->setVisible(no_pose);
   d_->type_pose->setVisible(no_pose || !result.trusted());
-  const bool show = d_->withheld || !result.trusted() || !result.reason.empty();
+  const bool show = !warnings.isEmpty();
   d_->banner->setVisible(show);
   d_->trust_bar->setVisible(show);
   findChild<QAction*>("confirmUpAction")->setEnabled(d_->withheld);

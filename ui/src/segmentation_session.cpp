@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <atomic>
 
+#include "clearway/hardware/acquisition_files.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/pose.h"
 
@@ -28,6 +29,22 @@ QDateTime recordedScanTime(const QString& scan_path) {
   const QJsonValue time = QJsonDocument::fromJson(file.readAll()).object().value("time");
   QDateTime parsed = QDateTime::fromString(time.toString(), Qt::ISODate);
   return parsed.isValid() ? parsed.toLocalTime() : QDateTime();
+}
+
+// Fills `result.partial` for the scan at `scan_path` (see SessionResult).
+void readCompleteness(const QString& scan_path, SessionResult& result) {
+  QFile record(QString::fromStdString(hardware::reportPathFor(scan_path.toStdString()).string()));
+  if (record.open(QIODevice::ReadOnly)) {
+    const QJsonObject json = QJsonDocument::fromJson(record.readAll()).object();
+    if (const QJsonValue complete = json.value("complete"); complete.isBool()) {
+      result.partial = !complete.toBool();
+      if (result.partial) result.partial_reason = json.value("reason").toString().trimmed();
+      return;
+    }
+  }
+  const QString name = QFileInfo(scan_path).fileName();
+  result.partial = name.endsWith(".partial.pcd", Qt::CaseInsensitive) ||
+                   name.endsWith("-partial.pcd", Qt::CaseInsensitive);
 }
 
 struct JobOutcome {
@@ -70,6 +87,7 @@ JobOutcome loadAndSegment(const QString& path, const SegmentationParams& params,
       outcome.result.scan_time = recorded;
       outcome.result.scan_time_recorded = true;
     }
+    readCompleteness(path, outcome.result);
     outcome.result.result = std::move(result);
   } catch (const OperationCancelled&) {
     outcome.cancelled = true;

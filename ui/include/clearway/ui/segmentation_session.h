@@ -27,6 +27,13 @@ struct SessionResult {
   bool scan_time_recorded = false;
   // Where the scan's pose came from (core's resolution: console > sidecar > file).
   PoseResolution pose;
+  // The scan was saved from an acquisition that ended early (cancelled, a device lost, a crash
+  // recovered from its journal): part of the turn is missing. The acquisition's record beside the
+  // scan decides (SCAN.acquisition.json's "complete"; `partial_reason`, its "reason", may be
+  // empty); without one, the name Clearway gives such a scan (SCAN.partial.pcd from `acquire`,
+  // ...-partial.pcd from the Scanner panel and `serve`).
+  bool partial = false;
+  QString partial_reason;
 };
 
 class SegmentationSession : public QObject {
