@@ -2,7 +2,10 @@
 // window fits, remembers and has a View menu and shortcuts (7), and it speaks to operators (8).
 // Settings are isolated (QStandardPaths test mode).
 
+#include <QAbstractItemView>
 #include <QAction>
+#include <QComboBox>
+#include <QDialogButtonBox>
 #include <QDockWidget>
 #include <QDoubleSpinBox>
 #include <QFile>
@@ -10,11 +13,15 @@
 #include <QJsonDocument>
 #include <QJsonObject>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenu>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QScreen>
+#include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
 #include <QSignalSpy>
 #include <QSlider>
@@ -53,6 +60,66 @@ QString writeCorruptScan(const QTemporaryDir& directory) {
       "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nWIDTH 1000000\nHEIGHT 1\nDATA "
       "binary\nxx");
   return path;
+}
+
+// The part of `widget` on screen: inside every parent up to `window`, and the window.
+QSize shownSize(const QWidget* widget, const QWidget* window) {
+  QRect shown = widget->rect();
+  for (const QWidget* child = widget; child != window; child = child->parentWidget())
+    shown = shown.translated(child->pos()).intersected(child->parentWidget()->rect());
+  return shown.size();
+}
+
+bool fullyShown(const QWidget* widget, const QWidget* window) {
+  return shownSize(widget, window) == widget->size();
+}
+
+// All of a control on screen; of a list, which scrolls its own items, its full width and at least
+// the height it needs to be used.
+bool usable(const QWidget* control, const QWidget* window) {
+  if (!qobject_cast<const QAbstractItemView*>(control)) return fullyShown(control, window);
+  const QSize shown = shownSize(control, window);
+  return shown.width() == control->width() &&
+         shown.height() >= std::min(control->height(), control->minimumSizeHint().height());
+}
+
+// What the operator clicks, types into or drags in a panel.
+bool isControl(const QWidget* widget) {
+  return qobject_cast<const QAbstractButton*>(widget) || qobject_cast<const QLineEdit*>(widget) ||
+         qobject_cast<const QAbstractSpinBox*>(widget) || qobject_cast<const QComboBox*>(widget) ||
+         qobject_cast<const QAbstractSlider*>(widget) ||
+         qobject_cast<const QAbstractItemView*>(widget);
+}
+
+// The visible controls of `panel` that cannot be brought on screen (usable), scrolling the panel's
+// scroll area to each as the operator would.
+QStringList unreachableControls(QWidget* panel, const QWidget* window) {
+  QStringList unreachable;
+  for (QWidget* control : panel->findChildren<QWidget*>()) {
+    if (!isControl(control) || !control->isVisibleTo(window)) continue;
+    // A spin box's line edit, a combo box's view: parts of a control already counted; a scroll
+    // bar is how the rest is reached.
+    if (qobject_cast<QAbstractSpinBox*>(control->parentWidget()) ||
+        qobject_cast<QComboBox*>(control->parentWidget()) || qobject_cast<QScrollBar*>(control))
+      continue;
+    for (QWidget* ancestor = control->parentWidget(); ancestor; ancestor = ancestor->parentWidget())
+      if (auto* scroll = qobject_cast<QScrollArea*>(ancestor);
+          scroll && scroll->widget() && scroll->widget()->isAncestorOf(control)) {
+        // ensureWidgetVisible brings only a spin box's or line edit's cursor into view.
+        const QPoint centre = control->mapTo(scroll->widget(), control->rect().center());
+        scroll->ensureVisible(centre.x(), centre.y(), control->width() / 2 + 1,
+                              control->height() / 2 + 1);
+        break;
+      }
+    if (!usable(control, window))
+      unreachable << QString("%1 (%2) at %3,%4 %5x%6")
+                         .arg(control->objectName(), control->metaObject()->className())
+                         .arg(control->mapTo(window, QPoint()).x())
+                         .arg(control->mapTo(window, QPoint()).y())
+                         .arg(control->width())
+                         .arg(control->height());
+  }
+  return unreachable;
 }
 
 void closeErrorDialogs(QWidget& window) {
@@ -354,6 +421,95 @@ class ConsoleTruthTest : public QObject {
       }
     QVERIFY(robot_toggle);
     QVERIFY(again.findChild<QDockWidget*>("robotDock")->isVisible());
+  }
+
+  // A field laptop's 1024 x 600 screen: the window fits it, and every control of the side panels
+  // (each scanner device's fields too) is on screen or brought there by scrolling its panel,
+  // with a scan shown and a long readout in the status bar.
+  void everyControlCanBeReachedAt1024x600() {
+    MainWindow window;
+    window.resize(1024, 600);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    const QSize minimum = window.minimumSizeHint();
+    QVERIFY2(minimum.width() <= 1024 && minimum.height() <= 600,
+             qPrintable(QString("needs %1x%2").arg(minimum.width()).arg(minimum.height())));
+    QSignalSpy shown(&window, &MainWindow::resultShown);
+    window.openScan(CLEARWAY_SAMPLES_DIR "/garage.pcd");
+    QVERIFY(shown.wait(kTimeoutMs));
+    emit window.mapView()->hovered(
+        1.25, -0.5,
+        "traversable, fits, but cannot get there: its box meets something in every heading there");
+    QTest::qWait(50);
+    QCOMPARE(window.size(), QSize(1024, 600));
+    auto* device = window.findChild<QComboBox*>("scannerDevice");
+    QStringList unreachable;
+    for (const char* name : {"robotDock", "scanDock", "hardwareDock"}) {
+      auto* dock = window.findChild<QDockWidget*>(name);
+      dock->raise();
+      for (int page = 0; page < (dock->objectName() == "hardwareDock" ? device->count() : 1);
+           ++page) {
+        if (dock->objectName() == "hardwareDock") device->setCurrentIndex(page);
+        QTest::qWait(50);  // laid out again
+        unreachable << unreachableControls(dock->widget(), &window);
+      }
+    }
+    QVERIFY2(unreachable.isEmpty(), qPrintable(unreachable.join("\n")));
+  }
+
+  // At 1024 x 600 the Scanner panel was wider than its dock (its longest device name set the box's
+  // width): it scrolled sideways as well as up and down, and every device's fields took the
+  // serial RoSi's height. The robot panel, the one worked most, showed four of its six rows. No
+  // side panel scrolls sideways now, for any device, and the robot panel is whole.
+  void theSidePanelsFit1024x600WithoutScrollingSideways() {
+    MainWindow window;
+    window.resize(1024, 600);
+    window.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&window));
+    auto* device = window.findChild<QComboBox*>("scannerDevice");
+    QStringList sideways;
+    for (const char* name : {"robotDock", "scanDock", "hardwareDock"}) {
+      auto* dock = window.findChild<QDockWidget*>(name);
+      dock->raise();
+      auto* scroll = qobject_cast<QScrollArea*>(dock->widget());
+      QVERIFY(scroll);
+      const int pages = dock->objectName() == "hardwareDock" ? device->count() : 1;
+      for (int page = 0; page < pages; ++page) {
+        if (pages > 1) device->setCurrentIndex(page);
+        QTest::qWait(50);  // laid out again
+        if (scroll->horizontalScrollBar()->maximum() > 0)
+          sideways << QString("%1, page %2: %3 px of panel in %4 px")
+                          .arg(name)
+                          .arg(page)
+                          .arg(scroll->widget()->width())
+                          .arg(scroll->viewport()->width());
+      }
+    }
+    QVERIFY2(sideways.isEmpty(), qPrintable(sideways.join("; ")));
+    auto* robot = qobject_cast<QScrollArea*>(window.findChild<QDockWidget*>("robotDock")->widget());
+    QVERIFY2(robot->verticalScrollBar()->maximum() == 0,
+             qPrintable(QString("robot panel %1 px high in %2 px")
+                            .arg(robot->widget()->height())
+                            .arg(robot->viewport()->height())));
+  }
+
+  // The Parameters dialog was 640 px high: on a 600 px screen OK and Cancel lay below its edge.
+  void theParametersDialogFitsASmallScreen() {
+    MainWindow window;
+    window.show();
+    ParametersDialog dialog(clearway::SegmentationParams{}, &window);
+    dialog.show();
+    QVERIFY(QTest::qWaitForWindowExposed(&dialog));
+    const QRect screen = dialog.screen()->availableGeometry();
+    QVERIFY2(dialog.frameGeometry().height() <= screen.height() &&
+                 dialog.frameGeometry().width() <= screen.width(),
+             qPrintable(QString("%1x%2 on a %3x%4 screen")
+                            .arg(dialog.frameGeometry().width())
+                            .arg(dialog.frameGeometry().height())
+                            .arg(screen.width())
+                            .arg(screen.height())));
+    auto* buttons = dialog.findChild<QDialogButtonBox*>();
+    QVERIFY(buttons && fullyShown(buttons, &dialog));
   }
 
   void everyOperatorActionHasAShortcut() {

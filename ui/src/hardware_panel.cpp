@@ -42,6 +42,8 @@ constexpr double kTypicalScannerHeight = 1.0;
 // Ranges at which the spacing of the ground samples is shown [m].
 constexpr double kNearRange = 2.0;
 constexpr double kFarRange = 5.0;
+// The device box shows at least this many characters of the device's name.
+constexpr int kDeviceNameChars = 16;
 }  // namespace
 
 struct HardwarePanel::Private {
@@ -81,6 +83,10 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   d_->device->addItem(tr("Simulated RoSi"));
   d_->device->addItem(tr("Serial RoSi (LMS200 + turntable)"));
   d_->device->addItem(tr("Remote RoSi (clearway-cli serve on the robot)"));
+  // The box is as wide as the dock gives it, not as its longest entry (the open list shows that
+  // whole): at 1024 x 600 the panel scrolled sideways.
+  d_->device->setSizeAdjustPolicy(QComboBox::AdjustToMinimumContentsLengthWithIcon);
+  d_->device->setMinimumContentsLength(kDeviceNameChars);
   form->addRow(tr("Device"), d_->device);
   // Each device shows only its own fields: a scene for the simulated RoSi, ports, link speed,
   // arm and mounting for the serial one.
@@ -100,6 +106,9 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   serial_page->setObjectName("serialFields");
   auto* serial_form = new QFormLayout(serial_page);
   serial_form->setContentsMargins(0, 0, 0, 0);
+  // "Mounting (robot from scanner)" and its field side by side were wider than a small screen's
+  // dock: a row too wide puts its field under its label.
+  serial_form->setRowWrapPolicy(QFormLayout::WrapLongRows);
   d_->lms_port = new QLineEdit("/dev/ttyUSB0", serial_page);
   d_->lms_port->setObjectName("lmsPort");
   d_->turntable_port = new QLineEdit("/dev/ttyUSB1", serial_page);
@@ -149,8 +158,18 @@ HardwarePanel::HardwarePanel(QWidget* parent) : QWidget(parent), d_(std::make_un
   };
   showMountingMeaning();
   connect(d_->arm_port, &QLineEdit::textChanged, this, showMountingMeaning);
-  connect(d_->device, qOverload<int>(&QComboBox::currentIndexChanged), d_->fields,
-          &QStackedWidget::setCurrentIndex);
+  // The chosen device's page alone sets the fields' size: every page took the serial one's
+  // height, pushing Connect and Scan down below a small screen's fold.
+  const auto followPage = [this](int index) {
+    d_->fields->setCurrentIndex(index);
+    for (int page = 0; page < d_->fields->count(); ++page)
+      d_->fields->widget(page)->setSizePolicy(
+          page == index ? QSizePolicy(QSizePolicy::Preferred, QSizePolicy::Preferred)
+                        : QSizePolicy(QSizePolicy::Ignored, QSizePolicy::Ignored));
+    d_->fields->updateGeometry();
+  };
+  followPage(d_->device->currentIndex());
+  connect(d_->device, qOverload<int>(&QComboBox::currentIndexChanged), this, followPage);
   d_->lines = new QSpinBox(this);
   d_->lines->setObjectName("scanLines");
   d_->lines->setRange(20, 4000);

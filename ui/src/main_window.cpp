@@ -13,6 +13,7 @@
 #include <QMimeData>
 #include <QScreen>
 #include <QScrollArea>
+#include <QScrollBar>
 #include <QSettings>
 #include <QSplitter>
 #include <QStatusBar>
@@ -50,10 +51,38 @@ QString ageInWords(const QDateTime& time) {
   return QObject::tr("%1 days old").arg(seconds / 86400);
 }
 
+// A side panel's scroll area: it scrolls up and down, never sideways. It is at least as wide as
+// the panel's narrowest layout and the scroll bar beside it (a panel one scroll bar wider than its
+// dock scrolled both ways at 1024 x 600), following the panel as it changes (a scanner device's
+// fields).
+class PanelScrollArea : public QScrollArea {
+ public:
+  using QScrollArea::QScrollArea;
+
+  QSize minimumSizeHint() const override {
+    QSize size = QScrollArea::minimumSizeHint();
+    if (widget())
+      size.setWidth(std::max(size.width(), widget()->minimumSizeHint().width() +
+                                               verticalScrollBar()->sizeHint().width() +
+                                               2 * frameWidth()));
+    return size;
+  }
+  QSize sizeHint() const override {
+    return QScrollArea::sizeHint().expandedTo(QSize(minimumSizeHint().width(), 0));
+  }
+
+ protected:
+  bool eventFilter(QObject* watched, QEvent* event) override {
+    if (watched == widget() && event->type() == QEvent::LayoutRequest) updateGeometry();
+    return QScrollArea::eventFilter(watched, event);
+  }
+};
+
 QDockWidget* dockFor(QMainWindow* window, QWidget* panel, const QString& title,
                      const QString& name) {
   // Panels scroll rather than push the window beyond a small screen.
-  auto* scroll = new QScrollArea(window);
+  auto* scroll = new PanelScrollArea(window);
+  scroll->setHorizontalScrollBarPolicy(Qt::ScrollBarAlwaysOff);
   scroll->setWidget(panel);
   scroll->setWidgetResizable(true);
   scroll->setFrameShape(QFrame::NoFrame);
@@ -171,6 +200,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent), d_(std::make_uniq
   addDockWidget(Qt::RightDockWidgetArea, hardware_dock);
   tabifyDockWidget(scan_dock, hardware_dock);
   scan_dock->raise();
+  // The robot panel, the one worked most, is shown whole, however small the screen: at 1024 x 600
+  // it showed four of its six rows (the maximum slope scrolled away) beside the recent scans.
+  robot_dock->widget()->setMinimumHeight(d_->robot->minimumSizeHint().height());
   d_->docks = {robot_dock, scan_dock, hardware_dock};
 
   // Bottom: what is under the cursor, the shown scan's age, progress and cancel.

@@ -5,14 +5,21 @@
 #include <QDoubleSpinBox>
 #include <QFormLayout>
 #include <QGroupBox>
+#include <QGuiApplication>
 #include <QLabel>
 #include <QPushButton>
+#include <QScreen>
 #include <QScrollArea>
 #include <QVBoxLayout>
+#include <algorithm>
 #include <map>
 
 namespace clearway::ui {
 namespace {
+
+// The dialog's size, and the most of the screen's free area it takes.
+const QSize kDefaultSize(560, 640);
+constexpr double kScreenShare = 0.92;
 
 QString stageTitle(const std::string& stage) {
   if (stage == "lines") return QObject::tr("1  Line segments (per scan line)");
@@ -99,7 +106,12 @@ ParametersDialog::ParametersDialog(const SegmentationParams& params, QWidget* pa
   layout->addWidget(scroll, 1);
   layout->addWidget(d_->problems);
   layout->addWidget(d_->buttons);
-  resize(560, 640);
+  // Fits the screen it opens on: on a 1024 x 600 field laptop OK and Cancel were below its edge
+  // (the groups scroll).
+  const QScreen* screen = parent ? parent->screen() : QGuiApplication::primaryScreen();
+  const QSize available = screen ? screen->availableGeometry().size() : kDefaultSize;
+  resize(std::min(kDefaultSize.width(), int(available.width() * kScreenShare)),
+         std::min(kDefaultSize.height(), int(available.height() * kScreenShare)));
   refresh();
 }
 
