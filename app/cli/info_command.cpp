@@ -16,6 +16,8 @@ int runInfo(const std::vector<std::string>& words) {
   ScanSummary summary = summarise(loaded.scan);
   summary.pose_source = std::string(poseSourceName(loaded.pose.source));
   summary.pose_detail = loaded.pose.detail;
+  if (const std::string partial = partialScanCaution(arguments.positional()[0]); !partial.empty())
+    summary.caution = summary.caution.empty() ? partial : summary.caution + "; " + partial;
   std::cout << (arguments.flag("json") ? toJson(summary) + "\n" : toText(summary));
   return 0;
 }

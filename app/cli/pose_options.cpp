@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "clearway/hardware/acquisition_files.h"
 #include "clearway/io/scan_io.h"
 #include "commands.h"
 
@@ -43,6 +44,16 @@ std::string describePose(const PoseResolution& pose) {
   std::string text = "pose: " + std::string(poseSourceName(pose.source));
   if (!pose.detail.empty()) text += " (" + pose.detail + ")";
   return text;
+}
+
+std::string partialScanCaution(const std::filesystem::path& scan) {
+  const hardware::ScanCompleteness completeness = hardware::scanCompleteness(scan);
+  if (!completeness.partial) return {};
+  const std::string why = completeness.reason.empty()
+                              ? "the acquisition ended before the turn was complete"
+                              : "the acquisition ended early (" + completeness.reason + ")";
+  return "partial scan: " + why +
+         ": what the rest of the turn would have seen is unknown, not free";
 }
 
 }  // namespace clearway::cli

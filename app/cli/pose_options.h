@@ -30,4 +30,9 @@ LoadedScan loadScanWithPose(const std::filesystem::path& file, const Arguments& 
 // One line for people: "pose: sidecar (garage.pose.json)".
 std::string describePose(const PoseResolution& pose);
 
+// What a partial acquisition's scan must say of itself ("partial scan: the acquisition ended early
+// (REASON): what the rest of the turn would have seen is unknown, not free"), else empty: its
+// SCAN.acquisition.json, or its name (hardware::scanCompleteness).
+std::string partialScanCaution(const std::filesystem::path& scan);
+
 }  // namespace clearway::cli

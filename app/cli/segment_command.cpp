@@ -44,6 +44,8 @@ int runSegment(const std::vector<std::string>& words) {
   if (!arguments.flag("quiet")) {
     std::cout << describePose(loaded.pose) << "\n";
     std::cout << "ground found: " << (result.trusted() ? "yes" : "NO") << "\n";
+    if (const std::string partial = partialScanCaution(scan_file); !partial.empty())
+      std::cout << "caution: " << partial << "\n";
     // The console draws nothing traversable until the operator confirms an estimated up
     // direction; a batch run writes the map, and says on every answer that it rests on it.
     const bool estimated =

@@ -2,9 +2,13 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cctype>
 #include <nlohmann/json.hpp>
+#include <string_view>
 
 #include "clearway/io/file_util.h"
+#include "clearway/io/scan_error.h"
 #include "clearway/io/scan_io.h"
 
 namespace clearway::hardware {
@@ -91,6 +95,39 @@ void saveAcquisition(const Acquisition& acquisition, const std::filesystem::path
   if (acquisition.pose)
     writeTextFileAtomically(poseSidecarPathFor(file), poseSidecarJson(*acquisition.pose));
   writeTextFileAtomically(reportPathFor(file), acquisitionReportJson(acquisition, file));
+}
+
+// An acquisition's record is a few hundred bytes: anything far larger is not one.
+constexpr std::uintmax_t kLargestRecordBytes = 1 << 20;
+
+ScanCompleteness scanCompleteness(const std::filesystem::path& scan) {
+  ScanCompleteness completeness;
+  const std::filesystem::path record = reportPathFor(scan);
+  std::error_code error;
+  if (std::filesystem::is_regular_file(record, error)) {
+    try {
+      const nlohmann::json json = nlohmann::json::parse(readWholeFile(record, kLargestRecordBytes));
+      if (const auto complete = json.find("complete");
+          complete != json.end() && complete->is_boolean()) {
+        completeness.partial = !complete->get<bool>();
+        if (const auto reason = json.find("reason");
+            completeness.partial && reason != json.end() && reason->is_string())
+          completeness.reason = printableText(reason->get<std::string>());
+        return completeness;
+      }
+    } catch (const std::exception&) {
+      // An unreadable record says nothing: the name still does.
+    }
+  }
+  const std::string name = scan.filename().string();
+  auto endsWith = [&name](std::string_view tail) {
+    return name.size() >= tail.size() &&
+           std::equal(tail.rbegin(), tail.rend(), name.rbegin(), [](char a, char b) {
+             return a == std::tolower(static_cast<unsigned char>(b));
+           });
+  };
+  completeness.partial = endsWith(".partial.pcd") || endsWith("-partial.pcd");
+  return completeness;
 }
 
 }  // namespace clearway::hardware

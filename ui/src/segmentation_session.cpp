@@ -33,18 +33,10 @@ QDateTime recordedScanTime(const QString& scan_path) {
 
 // Fills `result.partial` for the scan at `scan_path` (see SessionResult).
 void readCompleteness(const QString& scan_path, SessionResult& result) {
-  QFile record(QString::fromStdString(hardware::reportPathFor(scan_path.toStdString()).string()));
-  if (record.open(QIODevice::ReadOnly)) {
-    const QJsonObject json = QJsonDocument::fromJson(record.readAll()).object();
-    if (const QJsonValue complete = json.value("complete"); complete.isBool()) {
-      result.partial = !complete.toBool();
-      if (result.partial) result.partial_reason = json.value("reason").toString().trimmed();
-      return;
-    }
-  }
-  const QString name = QFileInfo(scan_path).fileName();
-  result.partial = name.endsWith(".partial.pcd", Qt::CaseInsensitive) ||
-                   name.endsWith("-partial.pcd", Qt::CaseInsensitive);
+  const hardware::ScanCompleteness completeness =
+      hardware::scanCompleteness(scan_path.toStdString());
+  result.partial = completeness.partial;
+  result.partial_reason = QString::fromStdString(completeness.reason).trimmed();
 }
 
 struct JobOutcome {

@@ -59,6 +59,37 @@ TEST(CliInfo, UsageMistakesExitTwo) {
   EXPECT_EQ(runCli("info --self-hit-radius abc x.pcd").exit_code, 2);
 }
 
+// A partial acquisition's scan says so, as the console's banner does: by its record
+// (SCAN.acquisition.json: why it ended), else by the name Clearway gives it. `info` and `segment`
+// said nothing, and a scan cut short read as the whole place.
+class PartialScan : public test::FileFolderTest {};
+
+TEST_F(PartialScan, InfoAndSegmentSayAScanIsPartialAndWhy) {
+  const auto cut = directory / "cut.partial.pcd";
+  ASSERT_EQ(runCli("simulate garage --lines 20 -o " + shellQuote(cut.string())).exit_code, 0);
+  const auto by_name = runCli("info " + shellQuote(cut.string()));
+  EXPECT_NE(by_name.out.find("partial scan: the acquisition ended before the turn was complete"),
+            std::string::npos)
+      << by_name.out;
+  write("cut.partial.acquisition.json",
+        R"({"version": 1, "scan": "cut.partial.pcd", "complete": false,)"
+        R"( "reason": "stopped by a signal after 12 lines"})");
+  const auto by_record = runCli("info --json " + shellQuote(cut.string()));
+  EXPECT_NE(by_record.out.find("the acquisition ended early (stopped by a signal after 12 lines)"),
+            std::string::npos)
+      << by_record.out;
+  const auto segmented = runCli("segment " + shellQuote(cut.string()) + " -o " +
+                                shellQuote((directory / "r").string()));
+  EXPECT_NE(segmented.out.find("caution: partial scan"), std::string::npos) << segmented.out;
+  // A record that says complete outweighs the name; a complete scan's name says nothing.
+  write("cut.partial.acquisition.json", R"({"version": 1, "complete": true, "reason": ""})");
+  EXPECT_EQ(runCli("info " + shellQuote(cut.string())).out.find("partial scan"), std::string::npos);
+  const auto whole = directory / "whole.pcd";
+  ASSERT_EQ(runCli("simulate garage --lines 20 -o " + shellQuote(whole.string())).exit_code, 0);
+  EXPECT_EQ(runCli("info " + shellQuote(whole.string())).out.find("partial scan"),
+            std::string::npos);
+}
+
 TEST(CliInfo, HelpExitsZero) {
   const auto result = runCli("--help");
   EXPECT_EQ(result.exit_code, 0);
@@ -77,10 +108,11 @@ TEST(CliHelp, EveryCommandAnswersWithItsOwnUsage) {
       const auto result = runCli(asked);
       EXPECT_EQ(result.exit_code, 0) << asked << ": " << result.err;
       EXPECT_TRUE(result.out.starts_with(own_line)) << asked << ": " << result.out;
-      for (const std::string other : kCommands)
-        if (other != command)
-          EXPECT_EQ(result.out.find("\n  " + other + " "), std::string::npos)
-              << "only " << command << "'s lines: " << result.out;
+      for (const std::string& other : kCommands) {
+        if (other == command) continue;
+        EXPECT_EQ(result.out.find("\n  " + other + " "), std::string::npos)
+            << "only " << command << "'s lines: " << result.out;
+      }
     }
     const auto wrong = runCli(command + " --no-such-option");
     EXPECT_EQ(wrong.exit_code, 2);

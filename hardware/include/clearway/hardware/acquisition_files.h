@@ -29,6 +29,16 @@ std::string poseSidecarJson(const PoseReading& pose);
 std::string acquisitionReportJson(const Acquisition& acquisition,
                                   const std::filesystem::path& saved);
 
+// Whether a scan on disk is a partial acquisition: what SCAN.acquisition.json beside it says
+// ("complete", and "reason" when it is not), else what its name says (SCAN.partial.pcd from
+// `acquire`, ...-partial.pcd from the console's Scanner panel and `serve`). An unclosed turn alone
+// does not say it: a sector may be what the operator asked for (`acquire --lines N`).
+struct ScanCompleteness {
+  bool partial = false;
+  std::string reason;  // why the acquisition ended early, when its record says; may be empty
+};
+ScanCompleteness scanCompleteness(const std::filesystem::path& scan);
+
 // Saves the scan to `file`, its pose sidecar (when the pose is known) and its report. Throws
 // ScanError when a file cannot be written.
 void saveAcquisition(const Acquisition& acquisition, const std::filesystem::path& file);
