@@ -245,7 +245,9 @@ std::string ScanAssembler::sweepProblem() const {
   for (std::size_t k = 0; k < steps.size(); ++k) {
     const std::string where =
         " after line " + std::to_string(k + 1) + " of " + std::to_string(lines.size());
-    if (steps[k] <= 0.0)
+    // A table that has not yet started, or a jittery angle reading, holds lines at one angle or
+    // a little back: within the same bound either way.
+    if (steps[k] < -kLargestLineStepFactor * usual)
       return "the lines' angles fall back by " + shown(-steps[k]) + " deg" + where +
              ": the acquisition was held up (the computer paused or overloaded) and what it read "
              "afterwards cannot be placed";

@@ -419,10 +419,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     error.clear();
   }
   assembler.refine();
-  if (const std::string problem = assembler.sweepProblem(); result.complete && !problem.empty()) {
-    result.complete = false;
-    error = problem;
-  }
+  const std::string sweep_problem = assembler.sweepProblem();
   result.untagged_lines = assembler.untagged();
   const ScanMetadata metadata = result.scan.metadata;
   result.scan = std::move(assembler.scan());
@@ -432,6 +429,11 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
     result.complete = false;
     error = std::to_string(result.dropped_lines) +
             " lines were dropped (corrupt telegrams): the scan has gaps";
+  }
+  // Lines dropped say why the scan has gaps; with none, lines out of their sweep say it.
+  if (result.complete && !sweep_problem.empty()) {
+    result.complete = false;
+    error = sweep_problem;
   }
   if (journal) {
     result.journal_error = journal->error();

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 
@@ -39,6 +40,24 @@ void feed(detail::ScanAssembler& assembler, double from_us, double to_us, double
 TEST(ScanAssembly, AnUndisturbedTurnIsOneSweep) {
   detail::ScanAssembler assembler(0);
   feed(assembler, 0.0, kTurnUs + 2e6);
+  ASSERT_TRUE(assembler.complete());
+  assembler.refine();
+  EXPECT_EQ(assembler.sweepProblem(), "");
+}
+
+// A table that takes a moment to start holds the first lines at one angle: still one sweep.
+TEST(ScanAssembly, ATableStartingToTurnIsStillOneSweep) {
+  detail::ScanAssembler assembler(0);
+  constexpr double kStartsAtUs = 300'000.0;
+  auto angle = [](double t) { return std::max(0.0, kTableDegPerS * (t - kStartsAtUs) / 1e6); };
+  const double end_us = kStartsAtUs + kTurnUs + 2e6;
+  for (double t = 0.0, line = 0.0; t < end_us; t += kSamplePeriodUs) {
+    assembler.addAngle({std::int64_t(t + 2'000.0), std::fmod(angle(t), 360.0)});
+    for (; line < t; line += kLinePeriodUs) {
+      assembler.addLine(std::int64_t(line + 2'000.0), detail::LineRanges(detail::kRosiPoints, 3.0));
+      assembler.place();
+    }
+  }
   ASSERT_TRUE(assembler.complete());
   assembler.refine();
   EXPECT_EQ(assembler.sweepProblem(), "");

@@ -151,13 +151,19 @@ TEST(Scenes, DoorwaysLetThroughOnlyTheDoorsThatFit) {
   EXPECT_EQ(rooms, (std::set<std::string>{"room_3", "room_5"}));
 }
 
-TEST(GroundTruthFile, RoundTrips) {
+// The stairwell simulated at `lines` lines, its truth saved as s.truth.json in `directory`.
+SimulatedScan stairwellTruthIn(const std::filesystem::path& directory, int lines) {
   const Scene scene = *builtinScene("stairwell");
   SensorModel sensor;
-  sensor.lines = 30;
-  const SimulatedScan simulated = simulateRosi(scene, sensor, defaultPlacement(scene));
-  test::TemporaryDirectory directory;
+  sensor.lines = lines;
+  SimulatedScan simulated = simulateRosi(scene, sensor, defaultPlacement(scene));
   saveGroundTruth(simulated.truth, directory / "s.truth.json", "s.pcd");
+  return simulated;
+}
+
+TEST(GroundTruthFile, RoundTrips) {
+  test::TemporaryDirectory directory;
+  const SimulatedScan simulated = stairwellTruthIn(directory.path(), 30);
   const GroundTruth read = loadGroundTruth(directory / "s.truth.json");
   EXPECT_EQ(read.classes, simulated.truth.classes);
   EXPECT_EQ(read.surfaces, simulated.truth.surfaces);
@@ -181,12 +187,8 @@ TEST(GroundTruthFile, BadFilesAreRefused) {
 // 1e9 deg were read as given and scored the map against a scene it was nowhere near.
 TEST(GroundTruthFile, ScannerPlacementNoScannerHasIsRefused) {
   using nlohmann::json;
-  const Scene scene = *builtinScene("stairwell");
-  SensorModel sensor;
-  sensor.lines = 4;
-  const SimulatedScan simulated = simulateRosi(scene, sensor, defaultPlacement(scene));
   test::TemporaryDirectory directory;
-  saveGroundTruth(simulated.truth, directory / "s.truth.json", "s.pcd");
+  stairwellTruthIn(directory.path(), 4);
   const json truth = json::parse(test::readBytes(directory / "s.truth.json"));
   for (const auto& [key, value, expected] : std::vector<std::tuple<std::string, json, std::string>>{
            {"position",
@@ -213,9 +215,10 @@ TEST(GroundTruthFile, ScannerPlacementNoScannerHasIsRefused) {
     }
   }
   // Nor does the simulator write such a placement into a truth file.
+  const Scene scene = *builtinScene("stairwell");
   ScannerPlacement far = defaultPlacement(scene);
   far.position.z() = 1e308;
-  EXPECT_THROW(simulateRosi(scene, sensor, far), std::invalid_argument);
+  EXPECT_THROW(simulateRosi(scene, SensorModel{}, far), std::invalid_argument);
 }
 
 }  // namespace
