@@ -222,10 +222,6 @@ void ScanAssembler::refine() {
   }
 }
 
-}  // namespace clearway::hardware::detail
-
-namespace clearway::hardware::detail {
-
 std::string ScanAssembler::sweepProblem() const {
   const std::vector<ScanLine>& lines = scan_.lines;
   if (lines.size() < 3) return {};
