@@ -19,6 +19,21 @@ std::uint16_t littleEndian16(const std::uint8_t* at) {
   return std::uint16_t(at[0] | (at[1] << 8));
 }
 
+bool plausibleLength(std::size_t length) {
+  return length > 0 && length <= kMaxPayload;
+}
+
+bool isAddress(std::uint8_t byte) {
+  return byte == kToScanner || byte == kFromScanner;
+}
+
+// Whether the bytes at `at` begin what follows a telegram on the line: another telegram's header
+// (STX, address, plausible length; 4 bytes there when it is an STX) or an ACK/NAK.
+bool startsSomething(const std::uint8_t* at) {
+  if (at[0] == kAck || at[0] == kNak) return true;
+  return at[0] == kStx && isAddress(at[1]) && plausibleLength(littleEndian16(at + 2));
+}
+
 }  // namespace
 
 std::uint16_t crc16(const std::uint8_t* data, std::size_t size) {
@@ -84,6 +99,11 @@ std::vector<ParseEvent> Parser::feed(const std::uint8_t* data, std::size_t size)
   };
   while (position < buffer_.size()) {
     const std::uint8_t byte = buffer_[position];
+    if ((byte == kAck || byte == kNak) && resynchronising_) {
+      ++skipped;  // a byte of the corrupt telegram's data, not an answer
+      ++position;
+      continue;
+    }
     if (byte == kAck || byte == kNak) {
       flushSkipped();
       events.push_back(
@@ -98,7 +118,7 @@ std::vector<ParseEvent> Parser::feed(const std::uint8_t* data, std::size_t size)
     }
     if (buffer_.size() - position < 4) break;  // the header is still arriving
     const std::size_t length = littleEndian16(&buffer_[position + 2]);
-    if (length == 0 || length > kMaxPayload) {  // not a telegram start after all
+    if (!plausibleLength(length)) {  // not a telegram start after all
       ++skipped;
       ++position;
       continue;
@@ -107,13 +127,36 @@ std::vector<ParseEvent> Parser::feed(const std::uint8_t* data, std::size_t size)
     if (buffer_.size() - position < total) break;  // wait for the rest
     const std::uint16_t expected = littleEndian16(&buffer_[position + 4 + length]);
     if (crc16(&buffer_[position], 4 + length) != expected) {
-      // Corrupt, or an STX inside other data: drop this STX and look again from the next byte.
-      flushSkipped();
-      events.push_back({ParseEvent::Kind::kBadCrc, {}, 1});
+      // Corrupt, or an STX inside other data. When its header is plausible and the bytes after it
+      // start a telegram (or are an ACK/NAK), its length was right: the whole telegram is one
+      // corrupt telegram, skipped at once, and the 0x02 bytes in its data are never taken for
+      // telegram starts. Wait for those bytes.
+      const std::size_t end = position + total;
+      const bool plausible = isAddress(buffer_[position + 1]);
+      if (plausible && buffer_.size() == end) break;
+      if (plausible && buffer_[end] == kStx && buffer_.size() - end < 4) break;
+      if (plausible && startsSomething(&buffer_[end])) {
+        flushSkipped();
+        events.push_back({ParseEvent::Kind::kBadCrc, {}, total});
+        resynchronising_ = false;
+        position = end;
+        continue;
+      }
+      // Where it ends is unknown: drop this STX and look again from the next byte. Until a
+      // telegram arrives whole (or a corrupt one is found whole), the telegram starts that fail on
+      // the way, in the corrupt telegram's data, are skipped bytes: one corruption, one bad CRC.
+      if (resynchronising_) {
+        ++skipped;
+      } else {
+        flushSkipped();
+        events.push_back({ParseEvent::Kind::kBadCrc, {}, 1});
+        resynchronising_ = true;
+      }
       ++position;
       continue;
     }
     flushSkipped();
+    resynchronising_ = false;
     ParseEvent event{ParseEvent::Kind::kTelegram, {}, 0};
     event.telegram.address = buffer_[position + 1];
     event.telegram.command = buffer_[position + 4];

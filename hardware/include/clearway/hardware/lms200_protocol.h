@@ -61,11 +61,18 @@ struct Telegram {
 struct ParseEvent {
   enum class Kind { kTelegram, kAcknowledged, kRefused, kBadCrc, kSkipped } kind = Kind::kSkipped;
   Telegram telegram;        // for kTelegram
-  std::size_t skipped = 0;  // bytes dropped while looking for a telegram (kSkipped, kBadCrc)
+  std::size_t skipped = 0;  // bytes dropped: garbage (kSkipped), the corrupt telegram (kBadCrc)
 };
 
 // Incremental parser: feed whatever the serial port delivered; complete telegrams come out,
-// fragments wait for more bytes, garbage and corrupt telegrams are skipped and reported.
+// fragments wait for more bytes, garbage and corrupt telegrams are skipped and reported. One
+// corrupt telegram is one kBadCrc: when its header is plausible (address 0x00 or 0x80, a length
+// up to kMaxPayload) and the bytes after it start another such header or are an ACK/NAK, its
+// length was right and it is skipped whole, so 0x02 bytes in its data are never taken for
+// telegrams (it is reported once those first bytes after it have arrived). Otherwise the parser
+// resynchronises byte by byte, and the telegram starts that fail on the way, and ACK/NAK bytes,
+// are skipped bytes until a telegram arrives whole or a corrupt one is found whole. How the
+// bytes are split between calls changes only how skipped bytes are grouped, no other event.
 class Parser {
  public:
   std::vector<ParseEvent> feed(const std::uint8_t* data, std::size_t size);
@@ -74,6 +81,7 @@ class Parser {
 
  private:
   Bytes buffer_;
+  bool resynchronising_ = false;  // a corrupt telegram of unknown end was reported
 };
 
 // Distances of a measured-values reply (0xB0). Values the scanner flags as not measurable
