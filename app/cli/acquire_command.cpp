@@ -81,6 +81,10 @@ int runAcquire(const std::vector<std::string>& words) {
 
   const auto lms = arguments.option("lms"), table = arguments.option("turntable");
   if (!lms || !table) throw UsageError(std::string("--lms PORT and --turntable PORT: ") + kUsage);
+  // Before any port is opened: one port named twice would be "in use by another program".
+  if (const std::string problem = hardware::checkDistinctPorts(namedPorts(arguments));
+      !problem.empty())
+    throw UsageError(problem);
   hardware::AcquisitionOptions options;
   options.lines = int(arguments.integer("lines", 0, 0, 100000));
   options.turntable_speed_deg_s =

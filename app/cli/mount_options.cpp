@@ -21,4 +21,14 @@ std::shared_ptr<hardware::PoseSource> poseSourceOption(const Arguments& argument
   return nullptr;
 }
 
+std::vector<hardware::NamedPort> namedPorts(const Arguments& arguments) {
+  std::vector<hardware::NamedPort> ports;
+  for (const auto& [name, device] :
+       {std::pair<std::string, std::string>{"lms", "the laser scanner"},
+        {"turntable", "the turntable"},
+        {"arm", "the arm controller"}})
+    if (const auto path = arguments.option(name)) ports.push_back({"--" + name, device, *path});
+  return ports;
+}
+
 }  // namespace clearway::cli

@@ -7,8 +7,10 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "arguments.h"
+#include "clearway/hardware/acquisition_files.h"
 #include "clearway/hardware/pose_source.h"
 
 namespace clearway::cli {
@@ -20,5 +22,8 @@ hardware::RigidPose poseOption(const Arguments& arguments, const std::string& na
 
 // The arm, a fixed mounting, or nullptr when neither option is given.
 std::shared_ptr<hardware::PoseSource> poseSourceOption(const Arguments& arguments);
+
+// The ports --lms, --turntable and --arm name (those given), for hardware::checkDistinctPorts.
+std::vector<hardware::NamedPort> namedPorts(const Arguments& arguments);
 
 }  // namespace clearway::cli

@@ -64,6 +64,9 @@ std::unique_ptr<hardware::ScannerDevice> makeDevice(const Arguments& arguments) 
   const auto lms = arguments.option("lms"), table = arguments.option("turntable");
   if (!lms || !table)
     throw UsageError("give the devices (--lms PORT --turntable PORT) or --simulate SCENE");
+  if (const std::string problem = hardware::checkDistinctPorts(namedPorts(arguments));
+      !problem.empty())
+    throw UsageError(problem);
   auto device = std::make_unique<hardware::SerialRosi>(
       QString::fromStdString(*lms), QString::fromStdString(*table),
       int(arguments.integer("baud", 38400, 9600, 500000)));

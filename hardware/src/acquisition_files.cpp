@@ -58,6 +58,32 @@ std::string checkOutputPath(const std::filesystem::path& scan) {
   return {};
 }
 
+std::string checkDistinctPorts(const std::vector<NamedPort>& ports) {
+  auto canonical = [](const std::string& path) {
+    std::error_code error;
+    const std::filesystem::path resolved = std::filesystem::weakly_canonical(path, error);
+    return error ? std::filesystem::path(path).lexically_normal() : resolved;
+  };
+  for (std::size_t a = 0; a < ports.size(); ++a) {
+    for (std::size_t b = a + 1; b < ports.size(); ++b) {
+      const NamedPort &first = ports[a], &second = ports[b];
+      const std::filesystem::path first_port = canonical(first.path);
+      const bool same_path = first_port == canonical(second.path);
+      std::error_code error;
+      if (!same_path && !std::filesystem::equivalent(first.path, second.path, error)) continue;
+      const std::string where =
+          first.path == second.path
+              ? first.path
+              : first.path + " and " + second.path + " are " +
+                    (same_path ? "both " + first_port.string() : std::string("the same device"));
+      return "the same port was given for " + first.option + " and " + second.option + " (" +
+             where + "): " + first.device + " and " + second.device +
+             " each need a port of their own";
+    }
+  }
+  return {};
+}
+
 std::string poseSidecarJson(const PoseReading& pose) {
   const RigidPose& p = pose.world_from_scanner;
   nlohmann::ordered_json json;

@@ -4,6 +4,8 @@
 #include <QMetaObject>
 #include <QPointer>
 
+#include "clearway/hardware/acquisition_files.h"
+
 namespace clearway::hardware {
 namespace {
 
@@ -48,6 +50,14 @@ void SerialRosi::doConnect() {
       fail(tr("There is no serial port %1. Is the scanner plugged in?").arg(port));
       return;
     }
+  }
+  // One port given for both would be "in use by another program" at the first scan.
+  if (const std::string problem = checkDistinctPorts(
+          {{"the laser port", "the laser scanner", lms_port_.toStdString()},
+           {"the turntable port", "the turntable", turntable_port_.toStdString()}});
+      !problem.empty()) {
+    fail(QString::fromStdString(problem));
+    return;
   }
   setState(State::kIdle);
 }

@@ -365,6 +365,46 @@ TEST(CliAcquire, ASecondAcquireOnTheSamePortsIsToldTheyAreBusy) {
   EXPECT_NE(first.err().find("interrupted by SIGINT"), std::string::npos) << first.err();
 }
 
+// One port given for two devices is said as such, before any port is opened (it was "in use by
+// another program", the port's lock taken by the same acquisition): by the same name, or by a
+// link to it (as /dev/serial/by-id/ names are), for the laser, the turntable or the arm, and by
+// serve as by acquire.
+TEST(CliAcquire, OnePortGivenForTwoDevicesIsSaidAsSuch) {
+  test::TemporaryDirectory directory;
+  hardware::RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  const std::string lms = shellQuote(emulator.lmsPort());
+  const std::string output = " -o " + shellQuote((directory / "x.pcd").string());
+  const auto twice = runCli("acquire --lms " + lms + " --turntable " + lms + output);
+  EXPECT_EQ(twice.exit_code, 2);
+  EXPECT_NE(twice.err.find("the same port was given for --lms and --turntable (" +
+                           emulator.lmsPort() + ")"),
+            std::string::npos)
+      << twice.err;
+  EXPECT_EQ(twice.err.find("in use"), std::string::npos) << twice.err;
+  const fs::path link = directory / "laser-by-id";
+  fs::create_symlink(emulator.lmsPort(), link);
+  const auto linked =
+      runCli("acquire --lms " + lms + " --turntable " + shellQuote(emulator.turntablePort()) +
+             " --arm " + shellQuote(link.string()) + output);
+  EXPECT_EQ(linked.exit_code, 2);
+  EXPECT_NE(linked.err.find("the same port was given for --lms and --arm"), std::string::npos)
+      << linked.err;
+  EXPECT_NE(linked.err.find("are both " + fs::canonical(emulator.lmsPort()).string()),
+            std::string::npos)
+      << linked.err;
+  const std::string credentials = shellQuote((directory / "c").string());
+  ASSERT_EQ(runCli("serve --init-credentials " + credentials).exit_code, 0);
+  // --seconds: were the ports taken as they are, serve would serve, and end by itself.
+  const auto served =
+      runCli("serve --credentials " + credentials + " --listen 127.0.0.1:0 --seconds 60 --lms " +
+             lms + " --turntable " + shellQuote(link.string()));
+  EXPECT_EQ(served.exit_code, 2);
+  EXPECT_NE(served.err.find("the same port was given for --lms and --turntable"), std::string::npos)
+      << served.err;
+  EXPECT_EQ(emulator.linesSent(), 0u);  // the laser was never started
+  EXPECT_FALSE(fs::exists(directory / "x.pcd"));
+}
+
 // A turntable that sends no angle: the lines that came cannot be placed, and the journal that
 // holds them as they came is kept (it was deleted with them).
 TEST(CliAcquire, LinesWithoutAnAngleAreKeptInTheJournal) {

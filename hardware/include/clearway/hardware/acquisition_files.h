@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "clearway/hardware/serial_acquisition.h"
 
@@ -21,6 +22,19 @@ std::filesystem::path reportPathFor(const std::filesystem::path& scan);  // SCAN
 // exists, is a folder and is writable, and neither the scan nor its SCAN.partial.pcd exists (an
 // acquired scan is never written over). Empty when fine, else the reason naming the path.
 std::string checkOutputPath(const std::filesystem::path& scan);
+
+// A serial port an acquisition is given: the option that named it, the device, the path.
+struct NamedPort {
+  std::string option;  // "--lms"
+  std::string device;  // "the laser scanner"
+  std::string path;
+};
+// Checked before any port is opened: every device has a port of its own. Two paths are the same
+// port when their canonical paths are (a /dev/serial/by-id/ link and its /dev/ttyUSB0) or they
+// name the same file. Empty when fine, else the reason naming both options, e.g. "the same port
+// was given for --lms and --turntable (/dev/ttyUSB0): the laser scanner and the turntable each
+// need a port of their own".
+std::string checkDistinctPorts(const std::vector<NamedPort>& ports);
 
 // {"version":1, "world_from_scanner": {"translation":[x,y,z], "rotation_wxyz":[w,x,y,z]},
 //  "source": "arm"|"mounting", "arm_tilt_deg": .., "arm_roll_deg": .., "time": ISO 8601}
