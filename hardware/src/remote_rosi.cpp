@@ -38,6 +38,7 @@ struct RemoteRosi::Private {
   bool welcomed_once = false;  // after the first Welcome, losses are reconnected
   bool welcomed = false;
   bool user_disconnected = true;
+  bool psk_asked = false;  // this connection's peer asked for the pre-shared key
   Role role = Role::kWatch;
   QString robot;
   LinkStatistics stats;
@@ -74,6 +75,9 @@ struct RemoteRosi::Private {
   void onTick();
   void endScan(bool complete, const QString& reason);
   void refuse(const QString& reason);
+  // Why the first connection failed, in words: nothing listening, no such host, not a Clearway
+  // robot, or credentials the robot refused.
+  QString firstConnectionFailure(QAbstractSocket::SocketError error, const QString& reason) const;
 };
 
 RemoteRosi::RemoteRosi(RemoteOptions options, QObject* parent)
@@ -162,8 +166,10 @@ void RemoteRosi::Private::open() {
   socket = new QSslSocket(q);
   configurePskTls(*socket);
   ++attempts;
+  psk_asked = false;
   QObject::connect(socket, &QSslSocket::preSharedKeyAuthenticationRequired, q,
                    [this](QSslPreSharedKeyAuthenticator* authenticator) {
+                     psk_asked = true;  // a TLS-PSK peer: a Clearway robot
                      authenticator->setIdentity(options.credentials.key.identity);
                      authenticator->setPreSharedKey(options.credentials.key.key);
                    });
@@ -190,19 +196,41 @@ void RemoteRosi::Private::open() {
       linkLost(tr("the robot sent a malformed frame: %1").arg(error.what()));
     }
   });
-  QObject::connect(socket, &QAbstractSocket::errorOccurred, q, [this](auto) {
-    const bool handshake = socket && !socket->isEncrypted();
-    const QString reason = socket ? socket->errorString() : QString();
-    if (!welcomed_once && handshake) {
-      refuse(tr("Could not connect to the robot at %1: %2. If the robot is reachable, the "
-                "credentials may be wrong.")
-                 .arg(where(), reason));
-      return;
-    }
-    linkLost(reason);
-  });
+  QObject::connect(socket, &QAbstractSocket::errorOccurred, q,
+                   [this](QAbstractSocket::SocketError error) {
+                     const bool handshake = socket && !socket->isEncrypted();
+                     const QString reason = socket ? socket->errorString() : QString();
+                     if (!welcomed_once && handshake) {
+                       refuse(firstConnectionFailure(error, reason));
+                       return;
+                     }
+                     linkLost(reason);
+                   });
   last_heard_ms = clock.elapsed();
   socket->connectToHostEncrypted(options.host, options.port);
+}
+
+QString RemoteRosi::Private::firstConnectionFailure(QAbstractSocket::SocketError error,
+                                                    const QString& reason) const {
+  if (error == QAbstractSocket::ConnectionRefusedError)
+    return tr("Could not connect to the robot: nothing listens at %1 (is clearway-cli serve "
+              "running there, on that port?).")
+        .arg(where());
+  if (error == QAbstractSocket::HostNotFoundError)
+    return tr("Could not connect to the robot at %1: host not found.").arg(where());
+  // The robot offers TLS with a pre-shared key: only a peer that asked for our key is one.
+  if (psk_asked)
+    return tr("The robot at %1 refused this console's credentials (%2): the credentials may be "
+              "wrong (console.json must hold an identity and key that the robot's robot.json "
+              "lists).")
+        .arg(where(), reason);
+  if (error == QAbstractSocket::SslHandshakeFailedError ||
+      error == QAbstractSocket::RemoteHostClosedError ||
+      error == QAbstractSocket::SslInternalError || error == QAbstractSocket::UnknownSocketError)
+    return tr("Could not connect to the robot: %1 does not speak Clearway's protocol (not a "
+              "Clearway robot?); the TLS handshake ended with: %2")
+        .arg(where(), reason);
+  return tr("Could not connect to the robot at %1: %2.").arg(where(), reason);
 }
 
 void RemoteRosi::Private::dropSocket() {
@@ -385,10 +413,18 @@ void RemoteRosi::Private::onTick() {
   }
   if (lost_at_ms < 0) {
     // Still connecting for the first time.
-    if (!welcomed_once && now - last_heard_ms > options.connect_timeout_ms)
-      refuse(tr("The robot at %1 did not answer within %2 s.")
-                 .arg(where())
-                 .arg(options.connect_timeout_ms / 1000));
+    if (!welcomed_once && now - last_heard_ms > options.connect_timeout_ms) {
+      const bool accepted = socket && socket->state() == QAbstractSocket::ConnectedState;
+      refuse(accepted && !psk_asked
+                 ? tr("Could not connect to the robot: %1 accepted the connection but did not "
+                      "answer within %2 s: it does not speak Clearway's protocol (not a "
+                      "Clearway robot?).")
+                       .arg(where())
+                       .arg(options.connect_timeout_ms / 1000)
+                 : tr("The robot at %1 did not answer within %2 s.")
+                       .arg(where())
+                       .arg(options.connect_timeout_ms / 1000));
+    }
     return;
   }
   const qint64 lost_for = now - lost_at_ms;

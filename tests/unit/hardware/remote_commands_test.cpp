@@ -317,6 +317,29 @@ TEST_F(RemoteCommands, ASecondControllerIsToldAnotherConsoleControls) {
   slow_serve.waitForFinished(kWaitMs);
 }
 
+// Nothing listening and an unknown host are said as such (both were "the credentials may be
+// wrong"); wrong credentials are in AcquireRemoteWithWrongCredentialsFailsWithTheReason.
+TEST_F(RemoteCommands, AcquireRemoteSaysWhyItCannotConnect) {
+  quint16 closed_port = 0;
+  {
+    QTcpServer gone;
+    ASSERT_TRUE(gone.listen(QHostAddress::LocalHost, 0));
+    closed_port = gone.serverPort();
+  }
+  const QString closed = QString("127.0.0.1:%1").arg(closed_port);
+  QString err;
+  EXPECT_EQ(
+      acquireFrom(closed, {"--credentials", credentials_, "-o", dir_.filePath("no.pcd")}, &err), 1);
+  EXPECT_TRUE(err.contains("nothing listens at " + closed)) << err.toStdString();
+  EXPECT_FALSE(err.contains("credentials")) << err.toStdString();
+  EXPECT_EQ(acquireFrom("no-such-robot.invalid:47100",
+                        {"--credentials", credentials_, "-o", dir_.filePath("no.pcd")}, &err),
+            1);
+  EXPECT_TRUE(err.contains("host not found")) << err.toStdString();
+  EXPECT_FALSE(err.contains("credentials")) << err.toStdString();
+  EXPECT_FALSE(QFile::exists(dir_.filePath("no.pcd")));
+}
+
 // The output is checked before the robot scans, as for a serial acquisition.
 TEST_F(RemoteCommands, AcquireRemoteChecksItsOutputBeforeScanning) {
   QString err;

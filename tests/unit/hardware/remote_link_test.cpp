@@ -346,6 +346,70 @@ TEST_F(RemoteLink, ASecondControllingConsoleMayOnlyWatch) {
   expectSameScan(*second_result.scan, *first_result.scan);
 }
 
+// Why a first connection failed, in words: it was always "the credentials may be wrong".
+TEST_F(RemoteLink, AFailedFirstConnectionSaysWhatIsAtTheOtherEnd) {
+  auto failureOf = [this](RemoteOptions options) {
+    RemoteRosi rosi(options);
+    Result result;
+    collect(rosi, result);
+    rosi.connectDevice();
+    waitFor([&] { return rosi.state() == ScannerDevice::State::kFailed; });
+    return result.failures.join("; ");
+  };
+  // Nothing listens at the port.
+  quint16 closed_port = 0;
+  {
+    QTcpServer gone;
+    ASSERT_TRUE(gone.listen(QHostAddress::LocalHost, 0));
+    closed_port = gone.serverPort();
+  }
+  const QString nothing = failureOf(consoleOptions(closed_port));
+  EXPECT_TRUE(nothing.contains(QString("nothing listens at 127.0.0.1:%1").arg(closed_port)))
+      << nothing.toStdString();
+  EXPECT_FALSE(nothing.contains("credentials")) << nothing.toStdString();
+  // No such host.
+  RemoteOptions unknown = consoleOptions(47100);
+  unknown.host = "no-such-robot.invalid";
+  const QString no_host = failureOf(unknown);
+  EXPECT_TRUE(no_host.contains("no-such-robot.invalid:47100: host not found"))
+      << no_host.toStdString();
+  EXPECT_FALSE(no_host.contains("credentials")) << no_host.toStdString();
+  // A web server: it answers, but not TLS with a pre-shared key.
+  QTcpServer web;
+  ASSERT_TRUE(web.listen(QHostAddress::LocalHost, 0));
+  QObject::connect(&web, &QTcpServer::newConnection, [&web] {
+    while (QTcpSocket* peer = web.nextPendingConnection()) {
+      QObject::connect(peer, &QTcpSocket::readyRead, [peer] {
+        peer->readAll();
+        peer->write("HTTP/1.1 400 Bad Request\r\nContent-Length: 0\r\n\r\n");
+        peer->disconnectFromHost();
+      });
+    }
+  });
+  const QString http = failureOf(consoleOptions(web.serverPort()));
+  EXPECT_TRUE(http.contains(QString("127.0.0.1:%1 does not speak Clearway's protocol (not a "
+                                    "Clearway robot?)")
+                                .arg(web.serverPort())))
+      << http.toStdString();
+  EXPECT_FALSE(http.contains("credentials")) << http.toStdString();
+  // A server that takes the connection and says nothing.
+  QTcpServer silent;
+  ASSERT_TRUE(silent.listen(QHostAddress::LocalHost, 0));
+  RemoteOptions quiet = consoleOptions(silent.serverPort());
+  quiet.connect_timeout_ms = 1000;
+  const QString mute = failureOf(quiet);
+  EXPECT_TRUE(mute.contains("does not speak Clearway's protocol")) << mute.toStdString();
+  EXPECT_FALSE(mute.contains("credentials")) << mute.toStdString();
+  // The robot itself, with a key it does not know: the credentials are named.
+  QTemporaryDir other;
+  initCredentials(other.path());
+  RemoteOptions wrong_key = consoleOptions(server_->serverPort());
+  wrong_key.credentials = loadConsoleCredentials(other.path());
+  const QString refused = failureOf(wrong_key);
+  EXPECT_TRUE(refused.contains("credentials may be wrong")) << refused.toStdString();
+  EXPECT_FALSE(refused.contains("does not speak")) << refused.toStdString();
+}
+
 TEST_F(RemoteLink, AnOldProtocolVersionIsRefusedWithTheReason) {
   RawTlsClient client(server_->serverPort(), loadConsoleCredentials(credentials_dir_.path()));
   ASSERT_TRUE(waitFor([&] { return client.socket().isEncrypted(); }));
