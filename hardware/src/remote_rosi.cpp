@@ -52,6 +52,9 @@ struct RemoteRosi::Private {
   std::uint32_t expected = 0;
   std::shared_ptr<Scan> scan;
   int short_finish_retries = 0;
+  // A Resume is on its way: Lines the robot sent before reading it may start beyond the lines
+  // held; its answer brings those, so they are dropped rather than taken for a protocol error.
+  bool resume_pending = false;
 
   QString where() const { return QString("%1:%2").arg(options.host).arg(options.port); }
 
@@ -63,6 +66,10 @@ struct RemoteRosi::Private {
 
   void send(const Frame& frame) {
     if (socket && welcomed) socket->write(encodeFrame(frame));
+  }
+  void resume(std::uint32_t from_line) {
+    resume_pending = true;
+    send(encode(Resume{scan_id, from_line}));
   }
 
   void open();
@@ -163,6 +170,7 @@ void RemoteRosi::Private::open() {
   dropSocket();
   parser = FrameParser();
   welcomed = false;
+  resume_pending = false;
   socket = new QSslSocket(q);
   configurePskTls(*socket);
   ++attempts;
@@ -282,12 +290,13 @@ void RemoteRosi::Private::onFrame(const Frame& frame) {
       if (scan_id != 0 && scan_id != started.scan_id) return;  // another scan while ours runs
       if (scan_id == 0) {
         scan_id = started.scan_id;
-        expected = started.expected_lines;
         short_finish_retries = 0;
         start_pending = false;
         scan = std::make_shared<Scan>();
-        q->setState(State::kScanning);
       }
+      expected = started.expected_lines;
+      // A watcher that joined a scan under way scans from the robot's answer to its Resume.
+      if (q->state() != State::kScanning) q->setState(State::kScanning);
       // Repeated with the pose once the robot knows it, and on a resumption: the lines held, even
       // a partial scan kept after the link is lost for good, carry it.
       if (started.pose && scan) scan->sensor_pose = started.pose;
@@ -318,13 +327,22 @@ void RemoteRosi::Private::onWelcome(const Welcome& welcome) {
   if (reconnection) ++stats.reconnections;
   if (scan_id != 0) {
     // Ask for what is missing: the rest of the running scan, or all of the finished one.
-    send(encode(Resume{scan_id, std::uint32_t(scan ? scan->lines.size() : 0)}));
+    resume(std::uint32_t(scan ? scan->lines.size() : 0));
   } else if (start_pending && welcome.active_scan != 0) {
     // The scan started while the link was down: take it from its first line.
     scan_id = welcome.active_scan;
     scan = std::make_shared<Scan>();
     start_pending = false;
-    send(encode(Resume{scan_id, 0}));
+    resume(0);
+  } else if (role == Role::kWatch && welcome.active_scan != 0) {
+    // A watcher arriving while a scan runs: the robot holds its lines, so it is received from its
+    // first line, then live (it used to wait, silent, for a ScanStarted that had gone by).
+    scan_id = welcome.active_scan;
+    scan = std::make_shared<Scan>();
+    expected = 0;
+    short_finish_retries = 0;
+    emit q->notice(tr("A scan is under way on the robot: receiving it from its first line."));
+    resume(0);
   }
   if (cancel_pending) {
     cancel_pending = false;
@@ -337,6 +355,7 @@ void RemoteRosi::Private::onWelcome(const Welcome& welcome) {
 void RemoteRosi::Private::onLines(const Lines& lines) {
   if (lines.scan_id != scan_id || !scan) return;
   const std::size_t have = scan->lines.size();
+  if (lines.first_line > have && resume_pending) return;  // the Resume's answer brings them
   if (lines.first_line > have)
     throw ProtocolError("lines from " + std::to_string(lines.first_line) + " arrived but only " +
                         std::to_string(have) + " are here");
@@ -346,6 +365,7 @@ void RemoteRosi::Private::onLines(const Lines& lines) {
     return;
   }
   stats.duplicate_lines_dropped += int(skip);
+  resume_pending = false;  // from here on the lines follow on from those held
   appendLineRecords(*scan, std::vector<LineRecord>(lines.lines.begin() + std::ptrdiff_t(skip),
                                                    lines.lines.end()));
   const int received = int(scan->lines.size());
@@ -359,7 +379,7 @@ void RemoteRosi::Private::onFinished(const ScanFinished& finished) {
       short_finish_retries < kMaxShortFinishRetries) {
     // Cannot happen on one ordered link; ask again rather than call a partial scan complete.
     ++short_finish_retries;
-    send(encode(Resume{scan_id, std::uint32_t(scan->lines.size())}));
+    resume(std::uint32_t(scan->lines.size()));
     return;
   }
   scan->sensor_pose = finished.pose;

@@ -317,6 +317,33 @@ TEST_F(RemoteCommands, ASecondControllerIsToldAnotherConsoleControls) {
   slow_serve.waitForFinished(kWaitMs);
 }
 
+// acquire --remote --watch started while another console's scan runs receives and saves that
+// scan (it printed "connected (watching)" and then nothing, until it was killed).
+TEST_F(RemoteCommands, AWatcherStartedDuringAScanSavesThatScan) {
+  QProcess slow_serve;
+  const QString robot = startRealTimeRobot(slow_serve, "slow-robot");
+  ASSERT_FALSE(robot.isEmpty());
+  QProcess controller;
+  controller.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_,
+                                  "--lines", "423", "-o", dir_.filePath("controller.pcd")});
+  ASSERT_TRUE(controller.waitForStarted(kWaitMs));
+  QString serve_log;
+  ASSERT_TRUE(waitForError(slow_serve, "started (423 lines)", serve_log))
+      << serve_log.toStdString();
+  QString err;
+  const int watched = acquireFrom(
+      robot, {"--credentials", credentials_, "--watch", "-o", dir_.filePath("watcher.pcd")}, &err);
+  ASSERT_TRUE(controller.waitForFinished(kWaitMs));
+  slow_serve.terminate();
+  slow_serve.waitForFinished(kWaitMs);
+  EXPECT_EQ(controller.exitCode(), 0) << controller.readAllStandardError().toStdString();
+  ASSERT_EQ(watched, 0) << err.toStdString();
+  EXPECT_TRUE(err.contains("A scan is under way on the robot: receiving it from its first line"))
+      << err.toStdString();
+  EXPECT_EQ(linesIn(dir_.filePath("watcher.pcd")), std::size_t(kGarageLines));
+  EXPECT_EQ(linesIn(dir_.filePath("controller.pcd")), std::size_t(kGarageLines));
+}
+
 // Nothing listening and an unknown host are said as such (both were "the credentials may be
 // wrong"); wrong credentials are in AcquireRemoteWithWrongCredentialsFailsWithTheReason.
 TEST_F(RemoteCommands, AcquireRemoteSaysWhyItCannotConnect) {

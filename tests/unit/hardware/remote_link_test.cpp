@@ -3,17 +3,24 @@
 // credentials, wrong credentials, a second controlling console, an old protocol version). Waits
 // are bounded in time (to avoid hangs, never as assertions on speed).
 
+#include <deque>
+#include <utility>
+
 #include "remote_test_support.h"
 
 namespace clearway::hardware::remote {
 namespace {
 
 // A TCP relay between a console and the server, our own: it can cut the link once after a number
-// of bytes towards the console, and limit that direction's throughput.
+// of bytes towards the console, limit that direction's throughput, and delay what the console
+// sends by `up_delay_ms`.
 class TestProxy : public QObject {
  public:
-  TestProxy(quint16 target, qint64 cut_after_bytes, double bytes_per_second)
-      : target_(target), cut_after_(cut_after_bytes), rate_(bytes_per_second) {
+  TestProxy(quint16 target, qint64 cut_after_bytes, double bytes_per_second, int up_delay_ms = 0)
+      : target_(target),
+        cut_after_(cut_after_bytes),
+        rate_(bytes_per_second),
+        up_delay_ms_(up_delay_ms) {
     server_.listen(QHostAddress::LocalHost, 0);
     connect(&server_, &QTcpServer::newConnection, this, [this] { accept(); });
     connect(&pump_, &QTimer::timeout, this, [this] { pumpDown(); });
@@ -28,7 +35,8 @@ class TestProxy : public QObject {
   struct Link {
     QTcpSocket* console = nullptr;
     QTcpSocket* robot = nullptr;
-    QByteArray down;  // robot -> console, waiting for its turn
+    QByteArray down;                               // robot -> console, waiting for its turn
+    std::deque<std::pair<qint64, QByteArray>> up;  // console -> robot, with the time it is due
   };
 
   void accept() {
@@ -37,8 +45,10 @@ class TestProxy : public QObject {
       link->console = console;
       link->robot = new QTcpSocket(this);
       links_.push_back(link);
-      connect(console, &QTcpSocket::readyRead, this,
-              [link] { link->robot->write(link->console->readAll()); });
+      connect(console, &QTcpSocket::readyRead, this, [this, link] {
+        link->up.emplace_back(clock_.elapsed() + up_delay_ms_, link->console->readAll());
+        pumpDown();
+      });
       connect(link->robot, &QTcpSocket::readyRead, this, [this, link] {
         link->down += link->robot->readAll();
         pumpDown();
@@ -67,6 +77,10 @@ class TestProxy : public QObject {
       budget_ = std::min(rate_ * kPumpMs / 1000.0 * 4, budget_ + rate_ * (now_s - last_s_));
     last_s_ = now_s;
     for (const auto& link : links_) {
+      while (link->console && !link->up.empty() && link->up.front().first <= clock_.elapsed()) {
+        link->robot->write(link->up.front().second);
+        link->up.pop_front();
+      }
       if (!link->console || link->down.isEmpty()) continue;
       qint64 n = link->down.size();
       if (rate_ > 0) n = std::min<qint64>(n, qint64(budget_));
@@ -90,6 +104,7 @@ class TestProxy : public QObject {
   quint16 target_;
   qint64 cut_after_;
   double rate_;
+  int up_delay_ms_;
   double budget_ = 0;
   double last_s_ = 0;
   qint64 forwarded_ = 0;
@@ -344,6 +359,44 @@ TEST_F(RemoteLink, ASecondControllingConsoleMayOnlyWatch) {
   ASSERT_TRUE(first_result.complete);
   ASSERT_TRUE(second_result.complete);
   expectSameScan(*second_result.scan, *first_result.scan);
+}
+
+// A watcher that connects while a scan runs receives that scan, from its first line (it waited,
+// silent, for a ScanStarted that had gone by, and never heard of that scan or its end). Its link
+// delays what it sends, so the robot streams lines before it reads the watcher's Resume: those
+// are no protocol error, and nothing is lost or taken twice.
+TEST_F(RemoteLink, AWatcherArrivingDuringAScanReceivesItFromItsFirstLine) {
+  device_->setSpeedup(1.0);  // real time, 37.5 lines/s: the scan runs for 11 s
+  RemoteRosi controller(consoleOptions(server_->serverPort()));
+  Result controller_result, watcher_result;
+  collect(controller, controller_result);
+  int received = 0;
+  connect(&controller, &RemoteRosi::progress, [&received](int lines, int) { received = lines; });
+  controller.connectDevice();
+  ASSERT_TRUE(waitFor([&] { return controller.state() == ScannerDevice::State::kIdle; }));
+  controller.startScan({kGarageLines, 0.0, {}});
+  ASSERT_TRUE(waitFor([&] { return received >= 40; }));
+
+  TestProxy slow_uplink(server_->serverPort(), 0, 0, /*up_delay_ms=*/400);
+  RemoteOptions options = consoleOptions(slow_uplink.port());
+  options.role = Role::kWatch;
+  RemoteRosi watcher(options);
+  collect(watcher, watcher_result);
+  QStringList notices;
+  connect(&watcher, &RemoteRosi::notice, [&notices](const QString& text) { notices << text; });
+  watcher.connectDevice();
+  ASSERT_TRUE(waitFor([&] { return controller_result.done && watcher_result.done; }));
+  ASSERT_TRUE(controller_result.complete) << controller_result.failures.join("; ").toStdString();
+  EXPECT_TRUE(watcher_result.failures.isEmpty())
+      << watcher_result.failures.join("; ").toStdString();
+  EXPECT_TRUE(notices.join("\n").contains("under way")) << notices.join("\n").toStdString();
+  EXPECT_EQ(watcher.linkStatistics().reconnections, 0);
+  ASSERT_TRUE(watcher_result.complete);
+  expectSameScan(*watcher_result.scan, *controller_result.scan);
+  ASSERT_TRUE(watcher_result.scan->sensor_pose.has_value());
+  EXPECT_EQ(watcher_result.scan->sensor_pose->position,
+            controller_result.scan->sensor_pose->position);
+  EXPECT_TRUE(logMentions("resumes scan")) << log_.join("\n").toStdString();
 }
 
 // Why a first connection failed, in words: it was always "the credentials may be wrong".

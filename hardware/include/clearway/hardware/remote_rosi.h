@@ -5,7 +5,8 @@
 // "link lost 4 s ago, reconnecting"). When the link drops it reconnects by itself and asks for the
 // rest of the running scan (scan id + first missing line), or the whole scan the robot finished
 // meanwhile; lines are taken in order exactly once, and a scan is reported complete only when the
-// robot says so and every line it counted has arrived.
+// robot says so and every line it counted has arrived. A watcher that connects while a scan runs
+// asks for it the same way, from its first line, and receives it whole.
 
 #include <QString>
 #include <memory>
