@@ -159,7 +159,7 @@ TEST(CliAcquire, AcquiresFromTheEmulatorAndFailsClearlyWithoutADevice) {
   EXPECT_EQ(info.at("points_per_line"), 180);
 
   const auto missing =
-      runCli("acquire --lms /dev/clearway-none --turntable /dev/clearway-none -o " +
+      runCli("acquire --lms /dev/clearway-none --turntable /dev/clearway-none-2 -o " +
              shellQuote((directory / "x.pcd").string()));
   EXPECT_EQ(missing.exit_code, 1);
   EXPECT_NE(missing.err.find("cannot open /dev/clearway-none"), std::string::npos) << missing.err;

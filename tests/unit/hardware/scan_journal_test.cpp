@@ -42,7 +42,9 @@ class JournalFolder : public ::testing::Test {
     AcquisitionOptions options;
     options.lines = lines;
     options.journal = journal();
-    EXPECT_TRUE(acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options).complete);
+    const Acquisition acquired =
+        acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+    EXPECT_TRUE(acquired.complete) << acquired.error;
     return readAll(options.journal);
   }
   fs::path journal() const { return folder_ / "scan.journal"; }
