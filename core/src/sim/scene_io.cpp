@@ -167,11 +167,14 @@ Scene sceneFromJson(const json& document) {
     passage.from = field<std::string>(item, "from", "");
     passage.to = field<std::string>(item, "to", "");
     // A passage to a place the scene lacks joined nothing, and every answer said "separate".
-    for (const auto& [key, name] : {std::pair{"from", &passage.from}, std::pair{"to", &passage.to}})
+    // (No structured binding: clang 14 cannot capture one in the lambda, CI's fuzz build.)
+    for (const auto& end : {std::pair{"from", &passage.from}, std::pair{"to", &passage.to}}) {
+      const std::string& name = *end.second;
       if (std::none_of(scene.places.begin(), scene.places.end(),
-                       [&](const Place& place) { return place.name == *name; }))
-        throw SceneError(where + key + " = '" + *name +
+                       [&name](const Place& place) { return place.name == name; }))
+        throw SceneError(where + end.first + " = '" + name +
                          "' names no place of the scene (places: " + placeNames(scene) + ")");
+    }
     // 0 is no limit (open floor); -1 was no limit too, without a word.
     passage.width = number(item, "width", 0.0, where, 0.0, kLargestSize, " m (0: no limit)");
     passage.height = number(item, "height", 0.0, where, 0.0, kLargestSize, " m (0: no limit)");
