@@ -255,10 +255,11 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
       interrupted())
     return result;
   // The table: home, speed, turn.
+  table.watchStop(options.stop_fd);
   error = table.home(timeout);
   if (error.empty()) error = table.setSpeed(options.turntable_speed_deg_s, timeout);
   if (error.empty()) error = table.start(timeout);
-  if (error.empty() && interrupted()) {
+  if (interrupted()) {  // says so, also where a stop ended the wait for the table's answer
     table.stop();
     return result;
   }

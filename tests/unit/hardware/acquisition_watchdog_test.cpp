@@ -14,6 +14,7 @@
 #include "../../../hardware/src/scan_assembler.h"
 #include "clearway/hardware/rosi_emulator.h"
 #include "clearway/hardware/serial_acquisition.h"
+#include "clearway/hardware/serial_turntable.h"
 #include "clearway/sim/builtin_scenes.h"
 
 namespace clearway::hardware {
@@ -192,6 +193,46 @@ TEST(AcquisitionStop, AStopWhileTheLaserIsSoughtEndsTheSearch) {
   EXPECT_TRUE(acquisition.stopped) << acquisition.error;
   EXPECT_NE(acquisition.error.find("stopped by a signal"), std::string::npos) << acquisition.error;
   EXPECT_EQ(acquisition.lines_received, 0u);
+}
+
+// The same while a silent turntable is awaited: HOME waited out a 10 s --timeout.
+TEST(AcquisitionStop, AStopWhileTheTableIsAwaitedEndsTheWait) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  emulator.stallTurntable(true);
+  int stop[2];
+  ASSERT_EQ(::pipe(stop), 0);
+  AcquisitionOptions options;
+  options.stop_fd = stop[0];
+  options.answer_timeout_ms = 10'000;
+  std::thread stopper([&] {
+    // Once the laser is found (it answers at once), the table's HOME is awaited.
+    std::this_thread::sleep_for(std::chrono::milliseconds(1'500));
+    const char byte = 1;
+    EXPECT_EQ(::write(stop[1], &byte, 1), 1);
+  });
+  const Acquisition acquisition =
+      acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  stopper.join();
+  ::close(stop[0]);
+  ::close(stop[1]);
+  EXPECT_TRUE(acquisition.stopped) << acquisition.error;
+  EXPECT_NE(acquisition.error.find("stopped by a signal"), std::string::npos) << acquisition.error;
+}
+
+// The table's own wait for an answer gives up at a stop, whatever its timeout.
+TEST(AcquisitionStop, ASilentTablesCommandGivesUpAtAStop) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  emulator.stallTurntable(true);
+  SerialTurntable table(emulator.turntablePort());
+  ASSERT_EQ(table.openError(), "");
+  int stop[2];
+  ASSERT_EQ(::pipe(stop), 0);
+  const char byte = 1;
+  ASSERT_EQ(::write(stop[1], &byte, 1), 1);
+  table.watchStop(stop[0]);
+  EXPECT_EQ(table.home(30'000), "stopped by a signal");
+  ::close(stop[0]);
+  ::close(stop[1]);
 }
 
 TEST(AcquisitionPorts, ASecondUserOfAPortIsToldItIsBusy) {

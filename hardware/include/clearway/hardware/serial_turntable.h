@@ -17,6 +17,10 @@ class Turntable {
   virtual ~Turntable() = default;
   // Empty when the controller is usable, else why not (cannot open the port, ...).
   virtual std::string openError() const = 0;
+  // A descriptor that becomes readable when the operator asks to stop (a signal's self-pipe): the
+  // commands below then give up waiting for an answer. -1 (the default): none. A controller that
+  // answers at once may ignore it.
+  virtual void watchStop(int /*stop_fd*/) {}
   // Each returns an empty string on success, else an operator-readable reason.
   virtual std::string home(int timeout_ms) = 0;
   virtual std::string setSpeed(double degrees_per_second, int timeout_ms) = 0;
@@ -34,6 +38,7 @@ class SerialTurntable : public Turntable {
   ~SerialTurntable() override;
 
   std::string openError() const override;
+  void watchStop(int stop_fd) override { stop_fd_ = stop_fd; }
   std::string home(int timeout_ms) override;
   std::string setSpeed(double degrees_per_second, int timeout_ms) override;
   std::string start(int timeout_ms) override;
@@ -45,6 +50,7 @@ class SerialTurntable : public Turntable {
   std::string command(const std::string& line, int timeout_ms);
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  int stop_fd_ = -1;
 };
 
 }  // namespace clearway::hardware
