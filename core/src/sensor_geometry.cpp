@@ -113,9 +113,14 @@ double medianStep(std::vector<double>& cosines, const std::vector<double>& gaps)
 
 // The directions of a line's samples (at most kStepsPerLine of them, evenly spread), to `visit`
 // with each sample's point index.
+// Every how many returns of `line` one is sampled: at most kStepsPerLine samples.
+std::size_t sampleStride(const ScanLine& line) {
+  return std::max<std::size_t>(1, line.count / kStepsPerLine);
+}
+
 template <typename Visit>
 void forSampledDirections(const Scan& scan, const ScanLine& line, Visit&& visit) {
-  const std::size_t stride = std::max<std::size_t>(1, line.count / kStepsPerLine);
+  const std::size_t stride = sampleStride(line);
   for (std::size_t k = 0; k < line.count; k += stride) {
     const std::size_t i = line.first + k;
     if (!scan.isValid(i)) continue;
@@ -234,7 +239,7 @@ LineShape unshapedLine(const Scan& scan, const ScanLine& line) {
   LineShape shape;
   shape.shaped = false;
   // forSampledDirections' samples, counted up to two.
-  const std::size_t stride = std::max<std::size_t>(1, line.count / kStepsPerLine);
+  const std::size_t stride = sampleStride(line);
   std::size_t samples = 0;
   for (std::size_t k = 0; k < line.count && samples < 2; k += stride) {
     const std::size_t i = line.first + k;

@@ -33,6 +33,7 @@ using detail::kPowerUpSpeed;
 using detail::LinkSpeed;
 using detail::nowMicros;
 using detail::SerialPort;
+using detail::stopRequested;
 using detail::waitReadable;
 
 // Something answers on the laser's port, but never with an LMS200 telegram. Quote the first line
@@ -46,11 +47,6 @@ std::string wrongDeviceReason(const std::string& path, const std::string& bytes)
   std::string reason = "the device on " + path + " answers, but not as an LMS200";
   if (line.size() >= 3) reason += " (it says \"" + line.substr(0, 60) + "\")";
   return reason + ": are the laser and turntable ports swapped?";
-}
-
-// Whether the stop descriptor (a signal's self-pipe; -1: none) asks to stop.
-bool stopRequested(int stop_fd) {
-  return stop_fd >= 0 && waitReadable(stop_fd, 0);
 }
 
 // Sends a request and waits for the scanner's ACK and its reply telegram with `reply_command`,

@@ -29,6 +29,11 @@ inline bool waitReadable(int fd, int timeout_ms) {
   return ::poll(&descriptor, 1, timeout_ms) > 0;
 }
 
+// Whether the stop descriptor (a signal's self-pipe; -1: none) asks to stop.
+inline bool stopRequested(int stop_fd) {
+  return stop_fd >= 0 && waitReadable(stop_fd, 0);
+}
+
 class SerialPort {
  public:
   explicit SerialPort(const std::string& path) : path_(path) {

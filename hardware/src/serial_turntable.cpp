@@ -35,7 +35,7 @@ std::string SerialTurntable::command(const std::string& line, int timeout_ms) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
   while (std::chrono::steady_clock::now() < deadline) {
     // A stop asked while a silent table is awaited (a --timeout of 20 s ignored Ctrl-C for 20 s).
-    if (stop_fd_ >= 0 && detail::waitReadable(stop_fd_, 0)) return "stopped by a signal";
+    if (detail::stopRequested(stop_fd_)) return "stopped by a signal";
     if (!detail::waitReadable(impl_->serial.fd(), 20)) continue;
     for (const std::string& reply : impl_->lines.feed(impl_->serial.readAvailable())) {
       if (reply == expected) return {};

@@ -170,51 +170,42 @@ TEST(AcquisitionStop, AStopRequestStopsTheDevicesAndKeepsTheLines) {
   EXPECT_EQ(emulator.linesSent(), sent);
 }
 
+// An acquisition with a 10 s --timeout from `emulator`, asked to stop `after` it started.
+Acquisition stoppedAfter(RosiEmulator& emulator, std::chrono::milliseconds after) {
+  int stop[2];
+  EXPECT_EQ(::pipe(stop), 0);
+  AcquisitionOptions options;
+  options.stop_fd = stop[0];
+  options.answer_timeout_ms = 10'000;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(after);
+    const char byte = 1;
+    EXPECT_EQ(::write(stop[1], &byte, 1), 1);
+  });
+  Acquisition acquisition = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  stopper.join();
+  ::close(stop[0]);
+  ::close(stop[1]);
+  return acquisition;
+}
+
 // A laser that never answers, with a long --timeout: the search for it at every link speed takes
 // 4 x 10 s, and a stop (Ctrl-C) during it was ignored until it gave up.
 TEST(AcquisitionStop, AStopWhileTheLaserIsSoughtEndsTheSearch) {
   RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
   emulator.stallLaser(true);
-  int stop[2];
-  ASSERT_EQ(::pipe(stop), 0);
-  AcquisitionOptions options;
-  options.stop_fd = stop[0];
-  options.answer_timeout_ms = 10'000;
-  std::thread stopper([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(300));
-    const char byte = 1;
-    EXPECT_EQ(::write(stop[1], &byte, 1), 1);
-  });
-  const Acquisition acquisition =
-      acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
-  stopper.join();
-  ::close(stop[0]);
-  ::close(stop[1]);
+  const Acquisition acquisition = stoppedAfter(emulator, std::chrono::milliseconds(300));
   EXPECT_TRUE(acquisition.stopped) << acquisition.error;
   EXPECT_NE(acquisition.error.find("stopped by a signal"), std::string::npos) << acquisition.error;
   EXPECT_EQ(acquisition.lines_received, 0u);
 }
 
-// The same while a silent turntable is awaited: HOME waited out a 10 s --timeout.
+// The same while a silent turntable is awaited: HOME waited out a 10 s --timeout. Once the laser
+// is found (it answers at once), the table's HOME is awaited.
 TEST(AcquisitionStop, AStopWhileTheTableIsAwaitedEndsTheWait) {
   RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
   emulator.stallTurntable(true);
-  int stop[2];
-  ASSERT_EQ(::pipe(stop), 0);
-  AcquisitionOptions options;
-  options.stop_fd = stop[0];
-  options.answer_timeout_ms = 10'000;
-  std::thread stopper([&] {
-    // Once the laser is found (it answers at once), the table's HOME is awaited.
-    std::this_thread::sleep_for(std::chrono::milliseconds(1'500));
-    const char byte = 1;
-    EXPECT_EQ(::write(stop[1], &byte, 1), 1);
-  });
-  const Acquisition acquisition =
-      acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
-  stopper.join();
-  ::close(stop[0]);
-  ::close(stop[1]);
+  const Acquisition acquisition = stoppedAfter(emulator, std::chrono::milliseconds(1'500));
   EXPECT_TRUE(acquisition.stopped) << acquisition.error;
   EXPECT_NE(acquisition.error.find("stopped by a signal"), std::string::npos) << acquisition.error;
 }
