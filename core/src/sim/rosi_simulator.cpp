@@ -55,20 +55,22 @@ ScannerPlacement defaultPlacement(const Scene& scene) {
   return placement;
 }
 
+std::string vectorText(const Eigen::Vector3d& v) {
+  std::string text = "[";  // appended: GCC 12 warned (-Wrestrict) on "[" + a temporary
+  for (int i = 0; i < 3; ++i)
+    text += readableNumber(v[i]) + (i < 2 ? ", " : "]");
+  return text;
+}
+
 std::string placementProblem(const ScannerPlacement& placement, const std::string& prefix) {
-  const auto shown = [](const Eigen::Vector3d& v) {
-    std::string text = "[";  // appended: GCC 12 warned (-Wrestrict) on "[" + a temporary
-    for (int i = 0; i < 3; ++i)
-      text += readableNumber(v[i]) + (i < 2 ? ", " : "]");
-    return text;
-  };
   // 1e308 put the scanner off every map: its rays met nothing, and eval placed the map there.
   if (!placement.position.allFinite() ||
       !(placement.position.cwiseAbs().maxCoeff() <= kFarthestScannerPosition))
-    return prefix + "position = " + shown(placement.position) +
+    return prefix + "position = " + vectorText(placement.position) +
            " lies more than 10 km from the origin";
   if (!unitDirection(placement.axis))
-    return prefix + "axis = " + shown(placement.axis) + " is no direction (zero or not finite)";
+    return prefix + "axis = " + vectorText(placement.axis) +
+           " is no direction (zero or not finite)";
   if (!(std::abs(placement.axis_roll_deg) <= 360.0))
     return prefix + "axis_roll_deg = " + readableNumber(placement.axis_roll_deg) +
            " is outside -360 .. 360";

@@ -30,13 +30,6 @@ std::string shown(const json& value) {
   return text.size() > kShown ? text.substr(0, kShown) + "..." : text;
 }
 
-std::string shown(const Eigen::Vector3d& v) {
-  std::string text = "[";  // appended: GCC 12 warned (-Wrestrict) on "[" + a temporary
-  for (int i = 0; i < 3; ++i)
-    text += readableNumber(v[i]) + (i < 2 ? ", " : "]");
-  return text;
-}
-
 // Three finite numbers (1e400 parses as infinity).
 Eigen::Vector3d vector3(const json& value, const std::string& what) {
   if (!value.is_array() || value.size() != 3 ||
@@ -50,7 +43,7 @@ Eigen::Vector3d vector3(const json& value, const std::string& what) {
 Eigen::Vector3d coordinates(const json& value, const std::string& what) {
   const Eigen::Vector3d v = vector3(value, what);
   if (!(v.cwiseAbs().maxCoeff() <= kFarthest))
-    throw SceneError(what + " = " + shown(v) + " lies more than 10 km from the origin");
+    throw SceneError(what + " = " + vectorText(v) + " lies more than 10 km from the origin");
   return v;
 }
 
@@ -105,13 +98,13 @@ Primitive primitiveFromJson(const json& item) {
   primitive.size = vector3(item["size"], where + ".size");
   // An edge of 0 or less is no solid: the ray caster met a box of -1 from inside out.
   if (!(primitive.size.minCoeff() > 0.0 && primitive.size.maxCoeff() <= kLargestSize))
-    throw SceneError(where + ".size = " + shown(primitive.size) +
+    throw SceneError(where + ".size = " + vectorText(primitive.size) +
                      ": every edge must be more than 0 and at most " +
                      readableNumber(kLargestSize) + " m");
   // The ray caster takes a cylinder's x as its diameter: a y of another value was ignored.
   if (primitive.shape == Shape::kCylinder &&
       std::abs(primitive.size.x() - primitive.size.y()) > 1e-9 * primitive.size.x())
-    throw SceneError(where + ".size = " + shown(primitive.size) +
+    throw SceneError(where + ".size = " + vectorText(primitive.size) +
                      ": a cylinder's size is [diameter, diameter, length], x and y the same");
   primitive.yaw_deg = number(item, "yaw_deg", 0.0, where + ".", -kLargestAngle, kLargestAngle);
   primitive.pitch_deg = number(item, "pitch_deg", 0.0, where + ".", -kLargestAngle, kLargestAngle);

@@ -48,6 +48,9 @@ ScannerPlacement defaultPlacement(const Scene& scene);
 // measures (a pose sidecar's translation is held to the same).
 inline constexpr double kFarthestScannerPosition = 10'000.0;
 
+// "[x, y, z]" as the scene and truth files' errors quote a vector (readableNumber each).
+std::string vectorText(const Eigen::Vector3d& v);
+
 // Why `placement` is no scanner's place, naming its keys after `prefix` ("scanner." gives
 // "scanner.position = [0, 0, 1e+308] lies more than 10 km from the origin"): a position that is
 // not finite or more than kFarthestScannerPosition out, an axis that is zero or not finite, an
