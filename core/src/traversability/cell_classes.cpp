@@ -234,9 +234,9 @@ constexpr double kPassedBy = 0.05;
 // Ground cells an obstacle may reach into between two lines (SweepNeighbours, docs/ALGORITHM.md,
 // "Where an obstacle ends between two lines"): from each blocking point towards where the
 // neighbouring line's beam was at its range, up to (not including) that place, when that beam
-// did not block and either ended there (what lies beyond its return is its shadow: the low face
-// of a pallet whose top the other line hit) or went on past a wedge wider than the density check
-// lets an obstacle hide in (`widest`).
+// either ended there (what lies beyond its return is its shadow: the low face of a pallet whose
+// top the other line hit; or the same obstacle, seen again by the next line) or went on past a
+// wedge wider than the density check lets an obstacle hide in (`widest`).
 void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, double widest,
                      const std::vector<std::uint8_t>& blocking, const std::vector<CellState>& state,
                      std::vector<std::uint8_t>& sparse, int threads) {
@@ -262,8 +262,12 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
               pass = {beam.x, beam.y};
               beyond = beam.beyond;
             } else {
-              if (blocking[neighbour])
-                continue;  // the obstacle goes on to the next line: it was seen
+              // The robot's own body hides what lies beyond it. A neighbour that blocks too says
+              // the obstacle was there on both lines, not what stands between them at its height:
+              // a pipe bridge seen by two lines 0.4 m apart crosses the wedge between them, and
+              // was taken for two posts a box could stand between (a random sweep's sparse
+              // outdoor scan, CellClasses.AnObstacleSeenByTwoLinesIsNotVouchedForBetweenThem).
+              if (blocking[neighbour] == kOwnBody) continue;
               const MapObstacle& n = inputs.obstacles[neighbour];
               const Eigen::Vector3d beam = Eigen::Vector3d(n.x, n.y, n.z) - scanner;
               const double length = beam.norm();

@@ -199,6 +199,25 @@ TEST(TraversabilityStage, AnObstacleMayReachIntoTheWedgeToTheNextLinesBeam) {
   }
 }
 
+TEST(TraversabilityStage, AnObstacleSeenByTwoLinesIsNotVouchedForBetweenThem) {
+  // A pipe 1.3 m above an open floor, lower than the robot, running along y at x = 3. Two scan
+  // lines hit it 1.4 m apart (a sparse scan at 7 m: 12 deg between lines), at the same range;
+  // between them nothing was seen at its height. The box under the pipe, between the two returns,
+  // would fit: the pipe most likely runs on from one to the other.
+  HandBuiltMap built(-3.0, -2.5, 6.0, 2.5);
+  built.floor(-2.75, -2.25, 5.75, 2.25).robotAt(-1.5, 0.0, 0.0);
+  built.point(3.0, -0.7, 1.3);
+  const std::size_t first_return = built.points() - 1;
+  built.point(3.0, 0.7, 1.3).sweptOnto(first_return);
+  const TraversabilityMap map = mapOf(built);
+  const Cell under = cellAt(map, 3.0, 0.025);
+  EXPECT_EQ(under.label, CellLabel::kObstacle) << describe(under);
+  EXPECT_EQ(under.reason, CellReason::kSparse) << describe(under);
+  // Clear of the pipe the floor is green.
+  const Cell clear = cellAt(map, 1.5, 0.025);
+  EXPECT_EQ(clear.label, CellLabel::kTraversable) << describe(clear);
+}
+
 // A corridor 2 cm wider than the robot running at 37 deg, between none of the uniform orientations
 // (every 15 deg): the robot fits only along it, which the stage tries when a wall says so.
 constexpr double kSlantDeg = 37.0;
