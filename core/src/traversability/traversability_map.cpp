@@ -14,6 +14,7 @@
 
 #include "../segmentation/parallel.h"
 #include "cell_classes.h"
+#include "drive_room.h"
 #include "footprints.h"
 #include "reach_limit.h"
 #include "reachability_search.h"
@@ -358,6 +359,10 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
       map.orientation[cell] = loose.orientation[cell];
     }
   }
+  // Beside a door narrower than the robot's width, a robot wider than long fits turned across it;
+  // it cannot drive there, nor through.
+  detail::markFitsWithoutRoomToDrive(map, classes, footprints, *loose_tester, pose_fits, robot,
+                                     threads);
   detail::markUnseenSurroundings(classes, footprints.outer_radius, map);
   labelStairs(analysis, robot, map);  // never green: climbable with care, or impassable
   for (std::uint8_t label : map.labels)

@@ -218,6 +218,50 @@ TEST(TraversabilityStage, AnObstacleSeenByTwoLinesIsNotVouchedForBetweenThem) {
   EXPECT_EQ(clear.label, CellLabel::kTraversable) << describe(clear);
 }
 
+// A robot wider than long (1.0 x 0.7 m) before a 0.2 m thick wall at x = 1.9-2.1 with a door
+// `door` wide centred on y = 0; it stands at (-1.5, 0) facing the wall.
+RobotParams wideRobot() {
+  RobotParams robot = testRobot();
+  robot.width = 1.0;
+  robot.length = 0.7;
+  return robot;
+}
+HandBuiltMap wallWithDoor(double door) {
+  HandBuiltMap built(-3.0, -2.5, 7.0, 2.5);
+  built.floor(-2.75, -2.25, 6.75, 2.25).robotAt(-1.5, 0.0, 0.0).wallPlane(std::numbers::pi / 2);
+  for (double side : {-1.0, 1.0}) {
+    for (double x : {1.9, 2.1})
+      built.face({x, side * door / 2}, {x, side * 2.25}, kWallLow, kWallHigh);
+    built.face({1.9, side * door / 2}, {2.1, side * door / 2}, kWallLow, kWallHigh);  // the jamb
+  }
+  return built;
+}
+
+TEST(TraversabilityStage, ADoorNarrowerThanAWideRobotIsTooNarrowWhereItFitsOnlyTurnedAcross) {
+  // Turned across the 0.94 m door (its 0.7 m length across the opening, its 1.0 m width
+  // straddling the wall) the box fits in the doorway, but the robot drives along its length and
+  // there has 0.24 m to move: the doorway is no passage. The room beyond is open floor the robot
+  // cannot get to.
+  const TraversabilityMap narrow = mapOf(wallWithDoor(0.94), wideRobot());
+  for (double y : kCentreRows) {
+    const Cell doorway = cellAt(narrow, 2.0, y);
+    EXPECT_EQ(doorway.label, CellLabel::kImpassable) << describe(doorway);
+    EXPECT_EQ(doorway.reason, CellReason::kTooNarrow) << describe(doorway);
+    EXPECT_FALSE(doorway.reachable);
+  }
+  const Cell room = cellAt(narrow, 4.5, 0.025);
+  EXPECT_EQ(room.label, CellLabel::kTraversable) << describe(room);
+  EXPECT_FALSE(room.reachable);
+  // A door 6 cm wider than the robot is a passage, driven through square to the wall.
+  const TraversabilityMap wide = mapOf(wallWithDoor(1.06), wideRobot());
+  for (double y : kCentreRows) {
+    const Cell doorway = cellAt(wide, 2.0, y);
+    EXPECT_TRUE(robotFits(doorway.label)) << describe(doorway);
+    EXPECT_TRUE(doorway.reachable);
+  }
+  EXPECT_TRUE(cellAt(wide, 4.5, 0.025).reachable);
+}
+
 // A corridor 2 cm wider than the robot running at 37 deg, between none of the uniform orientations
 // (every 15 deg): the robot fits only along it, which the stage tries when a wall says so.
 constexpr double kSlantDeg = 37.0;
