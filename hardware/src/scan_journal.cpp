@@ -66,8 +66,8 @@ ScanJournal::~ScanJournal() {
   }
 }
 
-void ScanJournal::record(const std::string& text) {
-  if (fd_ < 0) return;
+bool ScanJournal::record(const std::string& text) {
+  if (fd_ < 0 || !error_.empty()) return false;
   // One write() per record: after kill -9 the kernel holds every record written, whole or not at
   // all but the last (a torn last record is ignored when recovering).
   std::size_t done = 0;
@@ -75,12 +75,14 @@ void ScanJournal::record(const std::string& text) {
     const ssize_t n = ::write(fd_, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
-      if (error_.empty())
-        error_ = "cannot write the journal " + path_.string() + ": " + std::strerror(errno);
-      return;
+      // A write of nothing to a regular file means no space.
+      error_ = "cannot write the journal " + path_.string() + ": " +
+               std::strerror(n < 0 ? errno : ENOSPC);
+      return false;
     }
     done += std::size_t(n);
   }
+  return true;
 }
 
 void ScanJournal::sync() {
@@ -126,7 +128,7 @@ void ScanJournal::line(std::int64_t time_us, const std::vector<std::optional<dou
       text += '-';
   }
   text += '\n';
-  record(text);
+  if (record(text)) ++lines_;
 }
 
 void ScanJournal::dropped(std::int64_t time_us, const std::string& reason) {

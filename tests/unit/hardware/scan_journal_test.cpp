@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
 #include <sys/stat.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -24,6 +26,34 @@ std::string readAll(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
 }
+
+// While it lives, a file this process writes cannot grow beyond `bytes`: write(2) fails with
+// EFBIG (SIGXFSZ ignored), as it fails with ENOSPC on a full disk, with no root and no mount.
+// Lifted, writes succeed again, as on a disk where space was made.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    previous_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    ::getrlimit(RLIMIT_FSIZE, &previous_);
+    rlimit limit = previous_;
+    limit.rlim_cur = bytes;
+    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
+  }
+  ~FileSizeLimit() { lift(); }
+  FileSizeLimit(const FileSizeLimit&) = delete;
+  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
+  void lift() {
+    if (lifted_) return;
+    lifted_ = true;
+    ::setrlimit(RLIMIT_FSIZE, &previous_);
+    std::signal(SIGXFSZ, previous_handler_);
+  }
+
+ private:
+  rlimit previous_{};
+  void (*previous_handler_)(int) = SIG_DFL;
+  bool lifted_ = false;
+};
 
 class JournalFolder : public ::testing::Test {
  protected:
@@ -189,6 +219,42 @@ TEST_F(JournalFolder, AJournalOutOfItsOrderOrRangeIsNotTakenAsItComes) {
   } catch (const ScanError& error) {
     EXPECT_NE(std::string(error.what()).find("not a regular file"), std::string::npos);
   }
+}
+
+// The journal's disk fills up: the lines written before stay whole and recoverable, and the
+// journal says why and how many it holds. Records given after the failure are not written: once
+// space came back they were appended after the torn record, and the journal could not be
+// recovered at all (a corrupt line in its middle).
+TEST_F(JournalFolder, AFailedWriteKeepsTheLinesBeforeItRecoverable) {
+  const std::vector<std::optional<double>> ranges(std::size_t(180), 2.5);
+  std::size_t given = 0, held = 0;
+  {
+    ScanJournal writer(journal(), 0);
+    ASSERT_TRUE(writer.error().empty()) << writer.error();
+    FileSizeLimit limit(16 * 1024);  // about 15 lines
+    for (; given < 100 && writer.error().empty(); ++given) {
+      writer.angle({std::int64_t(given) * 26'000, double(given) * 1.2});
+      writer.line(std::int64_t(given) * 26'000 + 1000, ranges);
+    }
+    ASSERT_FALSE(writer.error().empty()) << "the limit was never reached";
+    EXPECT_NE(writer.error().find("cannot write the journal " + journal().string()),
+              std::string::npos)
+        << writer.error();
+    EXPECT_NE(writer.error().find("File too large"), std::string::npos) << writer.error();
+    held = writer.lines();
+    EXPECT_GT(held, 0u);
+    EXPECT_LT(held, given);
+    limit.lift();
+    for (std::size_t more = 0; more < 20; ++more, ++given) {
+      writer.angle({std::int64_t(given) * 26'000, double(given % 300) * 1.2});
+      writer.line(std::int64_t(given) * 26'000 + 1000, ranges);
+    }
+    writer.end(true, "");
+    EXPECT_EQ(writer.lines(), held);
+  }
+  const Acquisition recovered = recoverJournal(journal());
+  EXPECT_EQ(recovered.lines_received, held);
+  EXPECT_FALSE(recovered.complete);
 }
 
 }  // namespace

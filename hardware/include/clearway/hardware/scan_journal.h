@@ -36,7 +36,13 @@ class ScanJournal {
   ScanJournal(const ScanJournal&) = delete;
   ScanJournal& operator=(const ScanJournal&) = delete;
 
+  // Why the journal could not be created, or why a write failed (a full disk), with the system's
+  // words; empty while all is written. After a failed write nothing more is written: a record
+  // appended once space came back would follow a torn one and make the journal corrupt, so it
+  // keeps the records before the failure, recoverable.
   const std::string& error() const { return error_; }
+  // Measured-values lines the journal holds whole: every line given, until a write failed.
+  std::size_t lines() const { return lines_; }
   const std::filesystem::path& path() const { return path_; }
 
   void pose(const PoseReading& reading);
@@ -51,9 +57,10 @@ class ScanJournal {
   void remove();
 
  private:
-  void record(const std::string& text);
+  bool record(const std::string& text);  // false: not written (now or before)
   std::filesystem::path path_;
   std::string error_;
+  std::size_t lines_ = 0;
   int fd_ = -1;
   std::atomic<int> fd_for_sync_{-1};
   std::mutex sync_mutex_;
