@@ -287,6 +287,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   // The watchdog's clocks: the last line, the last angle sample, the last change of angle.
   auto last_line = Clock::now(), last_angle = Clock::now(), last_turn = Clock::now();
   std::optional<double> previous_angle;
+  bool journal_failure_told = false;
   bool done = false;
   while (!done) {
     pollfd fds[3] = {
@@ -343,6 +344,12 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
         }
       }
       events.clear();
+    }
+    // A journal that stopped (its disk full) is told at once, while the operator can still make
+    // space or stop the scan; the lines go on into memory. It was told only when the scan ended.
+    if (journal && !journal_failure_told && !journal->error().empty()) {
+      journal_failure_told = true;
+      if (options.journal_failed) options.journal_failed(journal->error(), journal->lines());
     }
     const std::size_t every = std::size_t(std::max(1, options.lines_arrived_every));
     const std::size_t before = assembler.scan().lines.size();
@@ -434,6 +441,7 @@ Acquisition acquireRosiScan(const std::string& lms_port, Turntable& table,
   }
   if (journal) {
     result.journal_error = journal->error();
+    result.lines_journaled = journal->lines();
     journal->end(result.complete, error);
     if (result.lines_received == 0) journal->remove();  // nothing arrived: nothing to keep
   }

@@ -257,5 +257,38 @@ TEST_F(JournalFolder, AFailedWriteKeepsTheLinesBeforeItRecoverable) {
   EXPECT_FALSE(recovered.complete);
 }
 
+// The disk fills up mid-scan: the acquisition says so at once, once, with the cause and how
+// many lines the journal holds, and goes on with every line in memory. It said nothing until
+// the scan ended.
+TEST_F(JournalFolder, AJournalThatFailsMidScanIsToldAtOnceAndTheScanGoesOn) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {20.0, 3});
+  AcquisitionOptions options;
+  options.lines = 120;
+  options.journal = journal();
+  std::size_t placed = 0, placed_when_told = 0;
+  options.lines_arrived_every = 1;
+  options.lines_arrived = [&](const Scan& so_far) { placed = so_far.lines.size(); };
+  std::vector<std::pair<std::string, std::size_t>> told;
+  options.journal_failed = [&](const std::string& reason, std::size_t lines_journaled) {
+    told.emplace_back(reason, lines_journaled);
+    placed_when_told = placed;
+  };
+  Acquisition acquired;
+  {
+    FileSizeLimit limit(16 * 1024);  // about 15 of the 120 lines
+    acquired = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
+  }
+  EXPECT_TRUE(acquired.complete) << acquired.error;
+  EXPECT_EQ(acquired.scan.lines.size(), 120u) << "every line is kept in memory";
+  ASSERT_EQ(told.size(), 1u);
+  EXPECT_NE(told[0].first.find("File too large"), std::string::npos) << told[0].first;
+  EXPECT_EQ(told[0].first, acquired.journal_error);
+  EXPECT_EQ(told[0].second, acquired.lines_journaled);
+  EXPECT_GT(acquired.lines_journaled, 0u);
+  EXPECT_LT(acquired.lines_journaled, 60u);
+  EXPECT_LT(placed_when_told, 60u) << "told long after the journal failed";
+  EXPECT_EQ(recoverJournal(journal()).lines_received, acquired.lines_journaled);
+}
+
 }  // namespace
 }  // namespace clearway::hardware

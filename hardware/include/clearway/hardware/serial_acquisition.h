@@ -32,6 +32,11 @@ struct AcquisitionOptions {
   int lines_arrived_every = 16;
   // Every line and angle is appended here as it arrives (scan_journal.h); empty: no journal.
   std::filesystem::path journal;
+  // Called once, on the acquiring thread, when a write to the journal first fails (its disk
+  // full): `reason` names the journal and the cause, `lines_journaled` is how many lines it holds.
+  // The acquisition goes on with every line in memory; the operator is to be told now, while the
+  // scan can still be stopped or space made, not when it ends.
+  std::function<void(const std::string& reason, std::size_t lines_journaled)> journal_failed;
   // Readable = stop now, as the operator asked (a self-pipe written by a signal handler); -1: none.
   int stop_fd = -1;
   // Where the scanner is for this scan: becomes the scan's sensor_pose (PCD VIEWPOINT).
@@ -44,11 +49,12 @@ struct Acquisition {
   // dropped.
   bool complete = false;
   std::string error;
-  std::size_t lines_received = 0;  // measured-values lines that arrived intact
-  std::size_t dropped_lines = 0;   // telegrams lost to corruption (bad checksum, malformed)
-  std::size_t untagged_lines = 0;  // arrived, but no turntable angle could be given to them
-  bool stopped = false;            // ended by the stop descriptor (a signal)
-  std::string journal_error;       // the journal could not be written (the scan is in memory)
+  std::size_t lines_received = 0;   // measured-values lines that arrived intact
+  std::size_t dropped_lines = 0;    // telegrams lost to corruption (bad checksum, malformed)
+  std::size_t untagged_lines = 0;   // arrived, but no turntable angle could be given to them
+  bool stopped = false;             // ended by the stop descriptor (a signal)
+  std::string journal_error;        // the journal could not be written (the scan is in memory)
+  std::size_t lines_journaled = 0;  // lines the journal holds: all received, but after an error
   std::optional<PoseReading> pose;
 };
 
