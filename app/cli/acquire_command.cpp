@@ -19,27 +19,75 @@ constexpr const char* kUsage =
     "clearway-cli acquire --lms PORT --turntable PORT [--arm PORT] [--mount POSE] [--lines N] "
     "-o SCAN.pcd, or acquire --recover SCAN.journal -o SCAN.pcd";
 
+// How many of the lines received the journal holds, once it failed: what a crash, or a save
+// that fails too, leaves of the scan.
+std::string journalHolds(const hardware::Acquisition& acquisition) {
+  return "the journal holds " + std::to_string(acquisition.lines_journaled) + " of the " +
+         std::to_string(acquisition.lines_received) + " lines received (" +
+         acquisition.journal_error + ")";
+}
+
+// The scan could not be saved to `target` (a full disk, say): where its lines are, if anywhere.
+void sayWhereTheLinesAre(const hardware::Acquisition& acquisition,
+                         const std::filesystem::path& target, const std::filesystem::path& journal,
+                         const std::string& error) {
+  std::cerr << "clearway-cli acquire: " << error << "\n";
+  // Written atomically: a scan file that exists is whole; what failed came after it.
+  if (std::filesystem::exists(target)) {
+    std::cerr << "clearway-cli acquire: the " << acquisition.scan.lines.size()
+              << " lines of the scan are in " << target.string() << "; " << journal.string()
+              << " is kept as well\n";
+    return;
+  }
+  const std::string recover =
+      ": recover them with clearway-cli acquire --recover " + journal.string() + " -o SCAN.pcd";
+  if (!std::filesystem::exists(journal)) {
+    std::cerr << "clearway-cli acquire: the " << acquisition.lines_received
+              << " lines received could not be saved\n";
+  } else if (acquisition.journal_error.empty()) {
+    std::cerr << "clearway-cli acquire: all " << acquisition.lines_received
+              << " lines received are kept in " << journal.string() << recover << "\n";
+  } else {
+    // Neither file could take them: the lines after the journal's failure end with the process.
+    std::cerr << "clearway-cli acquire: only " << acquisition.lines_journaled << " of the "
+              << acquisition.lines_received << " lines received are kept, in " << journal.string()
+              << recover << "; the other "
+              << acquisition.lines_received - acquisition.lines_journaled
+              << " could not be saved: the journal stopped (" << acquisition.journal_error
+              << ") and the scan could not be written\n";
+  }
+}
+
 // Saves what the acquisition holds; the journal is removed only once the scan is safely on disk.
 int finish(const hardware::Acquisition& acquisition, const std::filesystem::path& output,
            const std::filesystem::path& journal, bool partial_beside) {
+  const bool journal_failed = !acquisition.journal_error.empty();
   if (acquisition.complete) {
-    hardware::saveAcquisition(acquisition, output);
+    try {
+      hardware::saveAcquisition(acquisition, output);
+    } catch (const ScanError& error) {
+      sayWhereTheLinesAre(acquisition, output, journal, error.what());
+      return 1;
+    }
     std::filesystem::remove(journal);
     std::cout << "acquired " << acquisition.scan.lines.size()
               << " lines x 180 points: " << output.string() << "\n";
+    if (journal_failed)
+      std::cerr << "clearway-cli acquire: " << journalHolds(acquisition) << "; the scan's "
+                << acquisition.scan.lines.size() << " lines are all in " << output.string() << "\n";
     return 0;
   }
   std::cerr << "clearway-cli acquire: " << acquisition.error << " ("
             << hardware::describeLines(acquisition) << ")\n";
-  if (!acquisition.journal_error.empty())
-    std::cerr << "clearway-cli acquire: " << acquisition.journal_error << "\n";
+  if (journal_failed) std::cerr << "clearway-cli acquire: " << journalHolds(acquisition) << "\n";
   if (acquisition.scan.empty()) {
     // Lines came but none could be placed (no turntable angle, say): the journal holds them as
     // they came, so it stays.
     if (acquisition.lines_received > 0 && std::filesystem::exists(journal)) {
       std::cerr << "clearway-cli acquire: no line could be placed in a scan; the "
-                << acquisition.lines_received << " lines received are kept as they came in "
-                << journal.string() << " (move it away before acquiring to this name again)\n";
+                << (journal_failed ? acquisition.lines_journaled : acquisition.lines_received)
+                << " lines the journal holds are kept as they came in " << journal.string()
+                << " (move it away before acquiring to this name again)\n";
       return 1;
     }
     std::filesystem::remove(journal);
@@ -47,7 +95,12 @@ int finish(const hardware::Acquisition& acquisition, const std::filesystem::path
   }
   // Nothing the operator acquired is lost: the lines that arrived are kept, marked partial.
   const std::filesystem::path partial = partial_beside ? hardware::partialPathFor(output) : output;
-  hardware::saveAcquisition(acquisition, partial);
+  try {
+    hardware::saveAcquisition(acquisition, partial);
+  } catch (const ScanError& error) {
+    sayWhereTheLinesAre(acquisition, partial, journal, error.what());
+    return 1;
+  }
   std::filesystem::remove(journal);
   std::cerr << "clearway-cli acquire: the " << acquisition.scan.lines.size()
             << " lines that arrived are in " << partial.string() << " (incomplete)\n";
@@ -118,6 +171,13 @@ int runAcquire(const std::vector<std::string>& words) {
     return 1;
   }
   options.journal = journal;
+  // Said while the scan runs, so the operator can make space or stop it; the lines go on into
+  // memory and are saved when it ends.
+  options.journal_failed = [&output](const std::string& reason, std::size_t lines_journaled) {
+    std::cerr << "clearway-cli acquire: " << reason << ": it holds the first " << lines_journaled
+              << " lines. The scan goes on, every line kept in memory until it is saved to "
+              << output.string() << " at its end: make space there now\n";
+  };
   const StopSignals signals;
   options.stop_fd = signals.descriptor();
   hardware::Acquisition acquisition = hardware::acquireRosiScan(*lms, *table, options);
@@ -131,22 +191,7 @@ int runAcquire(const std::vector<std::string>& words) {
     std::cerr << "clearway-cli acquire: " << acquisition.error << "\n";
     return 1;
   }
-  try {
-    return finish(acquisition, output, journal, true);
-  } catch (const ScanError& error) {
-    // A full disk, say. The journal holds every line received, unless it hit the same full disk:
-    // then only the lines before that.
-    std::cerr << "clearway-cli acquire: " << error.what() << "\n";
-    if (std::filesystem::exists(journal))
-      std::cerr << "clearway-cli acquire: "
-                << (acquisition.journal_error.empty()
-                        ? "the lines are kept in "
-                        : "the lines written before the journal failed (" +
-                              acquisition.journal_error + ") are kept in ")
-                << journal.string() << ": recover them with clearway-cli acquire --recover "
-                << journal.string() << " -o SCAN.pcd\n";
-    return 1;
-  }
+  return finish(acquisition, output, journal, true);
 }
 
 }  // namespace clearway::cli

@@ -110,7 +110,10 @@ std::string acquisitionReportJson(const Acquisition& acquisition,
   json["dropped_lines"] = acquisition.dropped_lines;
   json["untagged_lines"] = acquisition.untagged_lines;
   json["stopped_by_signal"] = acquisition.stopped;
-  if (!acquisition.journal_error.empty()) json["journal_error"] = acquisition.journal_error;
+  if (!acquisition.journal_error.empty()) {
+    json["journal_error"] = acquisition.journal_error;
+    json["lines_journaled"] = acquisition.lines_journaled;
+  }
   json["pose_source"] = acquisition.pose ? nlohmann::ordered_json(acquisition.pose->source)
                                          : nlohmann::ordered_json(nullptr);
   return json.dump(2) + "\n";

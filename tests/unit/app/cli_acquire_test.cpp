@@ -35,11 +35,14 @@ std::string ports(const hardware::RosiEmulator& emulator) {
          shellQuote(emulator.turntablePort());
 }
 
-// clearway-cli running in the background, its output in files.
+// clearway-cli running in the background, its output in files; `launcher` runs it (e.g. a shell
+// that limits it first).
 class Background {
  public:
-  Background(const std::vector<std::string>& arguments, const fs::path& folder) {
-    std::vector<std::string> words = {CLEARWAY_CLI};
+  Background(const std::vector<std::string>& arguments, const fs::path& folder,
+             const std::vector<std::string>& launcher = {}) {
+    std::vector<std::string> words = launcher;
+    words.push_back(CLEARWAY_CLI);
     words.insert(words.end(), arguments.begin(), arguments.end());
     std::vector<char*> argv;
     for (std::string& word : words)
@@ -63,16 +66,23 @@ class Background {
   void signal(int number) { ::kill(pid_, number); }
   // The exit code, or 128 + the signal that ended it.
   int wait() {
-    int status = 0;
-    ::waitpid(pid_, &status, 0);
+    if (!waited_) ::waitpid(pid_, &status_, 0);
     waited_ = true;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return WIFEXITED(status_) ? WEXITSTATUS(status_) : 128 + WTERMSIG(status_);
+  }
+  // False once it has ended (wait() then says how).
+  bool running() {
+    if (waited_) return false;
+    if (::waitpid(pid_, &status_, WNOHANG) == 0) return true;
+    waited_ = true;
+    return false;
   }
   std::string err() const { return test::readBytes(err_); }
   std::string out() const { return test::readBytes(out_); }
 
  private:
   pid_t pid_ = -1;
+  int status_ = 0;
   bool waited_ = false;
   fs::path out_, err_;
 };
@@ -435,6 +445,61 @@ TEST(CliAcquire, DroppedLinesAreReportedAndTheScanIsNotCalledComplete) {
       nlohmann::json::parse(test::readBytes(directory / "x.partial.acquisition.json"));
   EXPECT_GT(report.at("dropped_lines").get<int>(), 0);
   EXPECT_EQ(report.at("complete"), false);
+}
+
+// Runs clearway-cli under a file size limit of `kilobytes`: a file it writes that would grow
+// beyond it fails with EFBIG ("File too large"), as one on a full disk fails with ENOSPC, with no
+// root and no mount. SIGXFSZ is ignored, so the write fails instead of killing the process.
+std::vector<std::string> underFileSizeLimit(int kilobytes) {
+  return {"/bin/sh", "-c",
+          "trap '' XFSZ; ulimit -f " + std::to_string(kilobytes * 2) + "; exec \"$@\"", "sh"};
+}
+
+// The disk fills up mid-scan: the operator is told at once, while the scan runs, with the cause
+// and the lines the journal holds, and at the end how many of the lines received are kept where
+// (here the scan cannot be saved either). Nothing was said until the scan ended, and then not how
+// many lines the journal held.
+TEST(CliAcquire, AJournalThatFailsMidScanIsToldAtOnceAndTheEndSaysWhatIsKept) {
+  test::TemporaryDirectory directory;
+  hardware::RosiEmulator emulator(*sim::builtinScene("garage"), {1.0, 3});  // 8 s a turn
+  const fs::path scan = directory / "full.pcd", journal = directory / "full.journal";
+  // 16 kB: about 15 lines of the journal, and far less than the scan file.
+  Background acquire({"acquire", "--lms", emulator.lmsPort(), "--turntable",
+                      emulator.turntablePort(), "-o", scan.string()},
+                     directory.path(), underFileSizeLimit(16));
+  std::uint64_t sent_when_told = 0;
+  ASSERT_TRUE(waitFor([&] {
+    sent_when_told = emulator.linesSent();
+    return acquire.err().find("cannot write the journal") != std::string::npos ||
+           !acquire.running();
+  })) << acquire.err();
+  // A turn is 300 lines: told while the scan runs, not once it has ended.
+  EXPECT_LT(sent_when_told, 150u) << acquire.err();
+  ASSERT_TRUE(acquire.running()) << acquire.err();
+  const std::string told = acquire.err();
+  EXPECT_NE(told.find("cannot write the journal " + journal.string() + ": File too large"),
+            std::string::npos)
+      << told;
+  const auto holds = told.find("it holds the first ");
+  ASSERT_NE(holds, std::string::npos) << told;
+  const std::size_t journaled = std::stoul(told.substr(holds + 19));
+  EXPECT_EQ(journaledLines(journal), journaled);
+
+  ASSERT_TRUE(waitFor([&] { return emulator.linesSent() > journaled + 30; }));
+  acquire.signal(SIGTERM);
+  EXPECT_EQ(acquire.wait(), 1);
+  const std::string said = acquire.err();
+  EXPECT_NE(said.find("full.partial.pcd: cannot write: File too large"), std::string::npos) << said;
+  EXPECT_NE(said.find("only " + std::to_string(journaled) + " of the "), std::string::npos) << said;
+  EXPECT_NE(said.find("are kept, in " + journal.string() + ": recover them"), std::string::npos)
+      << said;
+  EXPECT_NE(said.find("could not be saved"), std::string::npos) << said;
+  EXPECT_FALSE(fs::exists(directory / "full.partial.pcd"));
+  const auto recovered = runCli("acquire --recover " + shellQuote(journal.string()) + " -o " +
+                                shellQuote((directory / "recovered.pcd").string()));
+  EXPECT_NE(recovered.out.find("recovered " + std::to_string(journaled) + " lines in the scan"),
+            std::string::npos)
+      << recovered.out << recovered.err;
 }
 
 TEST(CliEmulate, FaultSwitchesAndTheArmAreOnTheCommandLine) {
