@@ -139,13 +139,17 @@ struct RemoteScanServer::Private {
 
 namespace {
 
-// Whether a journal (docs/JOURNAL.md) holds any measured-values line record.
-bool journalHoldsLines(const QString& path) {
+// The measured-values line records a journal (docs/JOURNAL.md) holds whole (a torn last one, cut
+// by a full disk, is not recovered and not counted).
+std::size_t journaledLines(const QString& path) {
   QFile file(path);
-  if (!file.open(QIODevice::ReadOnly)) return false;
-  while (!file.atEnd())
-    if (file.readLine().startsWith("L ")) return true;
-  return false;
+  if (!file.open(QIODevice::ReadOnly)) return 0;
+  std::size_t lines = 0;
+  while (!file.atEnd()) {
+    const QByteArray record = file.readLine();
+    if (record.startsWith("L ") && record.endsWith('\n')) ++lines;
+  }
+  return lines;
 }
 
 }  // namespace
@@ -163,6 +167,11 @@ RemoteScanServer::RemoteScanServer(ScannerDevice* device, RobotCredentials crede
           [this](std::shared_ptr<const Scan> scan, bool complete) {
             d_->finishScan(std::move(scan), complete);
           });
+  // Said to every console at once, and logged: the operator may still make space on the robot.
+  connect(device, &ScannerDevice::warning, this, [this](const QString& text) {
+    d_->log("scanner: " + text);
+    d_->broadcast(encodeText(MessageType::kNotice, text));
+  });
   connect(device, &ScannerDevice::failed, this, [this](const QString& reason) {
     d_->last_failure = reason;
     d_->log("scanner: " + reason);
@@ -492,6 +501,7 @@ void RemoteScanServer::Private::finishScan(std::shared_ptr<const Scan> scan, boo
   // Saved on the robot before anything calls it finished: a dropped link loses nothing.
   const QString name = QString("scan-%1%2.pcd").arg(current->id).arg(complete ? "" : "-partial");
   const QString path = QDir(options.storage_dir).filePath(name);
+  bool save_failed = false;
   if (!current->lines.empty()) {
     try {
       QDir().mkpath(options.storage_dir);
@@ -499,28 +509,44 @@ void RemoteScanServer::Private::finishScan(std::shared_ptr<const Scan> scan, boo
       result.saved_as = path;
       emit q->scanSaved(path, complete);
     } catch (const std::exception& error) {
+      save_failed = true;
       result.complete = false;
       result.reason = QString("The robot could not save the scan: %1").arg(error.what());
-      if (QFileInfo::exists(journalPath(current->id)))
-        result.reason += QString(" (its lines are kept in %1)").arg(journalPath(current->id));
     }
   }
   // Saved: the journal is no longer needed. Kept when the save failed, and when it holds lines
   // the scan could not place (no turntable angle came with them), as `acquire` keeps them.
   const QString journal = journalPath(current->id);
-  if (!result.saved_as.isEmpty() || !journalHoldsLines(journal))
+  const std::size_t journaled = result.saved_as.isEmpty() ? journaledLines(journal) : 0;
+  const std::size_t lines = current->lines.size();
+  if (journaled == 0) {
     QFile::remove(journal);
-  else
+  } else if (!save_failed) {
     log(QString("scan %1: kept %2, which holds lines the scan could not place")
             .arg(current->id)
             .arg(journal));
+  } else {
+    // The journal may have stopped on the same full disk: how many lines it keeps, not "its
+    // lines" (it held 109 of 302), and not "lines the scan could not place".
+    result.reason +=
+        journaled >= lines
+            ? QString(" (its lines are kept in %1)").arg(journal)
+            : QString(" (%1 keeps %2 of its %3 lines)").arg(journal).arg(journaled).arg(lines);
+    log(QString("scan %1: kept %2, which holds %3 of its %4 lines: the scan could not be saved")
+            .arg(current->id)
+            .arg(journal)
+            .arg(journaled)
+            .arg(lines));
+  }
   current->finished = true;
   ++statistics.scans_finished;
-  log(QString("scan %1 %2: %3 lines%4")
+  // An incomplete scan's log line says why (a full disk was said only to the console).
+  log(QString("scan %1 %2: %3 lines%4%5")
           .arg(current->id)
           .arg(result.complete ? "complete" : "incomplete")
           .arg(result.total_lines)
-          .arg(result.saved_as.isEmpty() ? QString() : ", saved as " + result.saved_as));
+          .arg(result.saved_as.isEmpty() ? QString() : ", saved as " + result.saved_as)
+          .arg(result.complete ? QString() : ": " + result.reason));
   broadcast(encode(result));
   finished.push_back(std::move(current));
   current.reset();

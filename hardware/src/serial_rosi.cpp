@@ -88,6 +88,17 @@ void SerialRosi::doStartScan(const ScanRequest& request) {
         },
         Qt::QueuedConnection);
   };
+  options.journal_failed = [self](const std::string& reason, std::size_t lines_journaled) {
+    const QString text = tr("%1: the journal holds the first %2 lines. The scan goes on, its lines "
+                            "kept in memory until it is saved.")
+                             .arg(QString::fromStdString(reason), QString::number(lines_journaled));
+    QMetaObject::invokeMethod(
+        self,
+        [self, text] {
+          if (self) emit self->warning(text);
+        },
+        Qt::QueuedConnection);
+  };
   last_pose_.reset();
   worker_ = std::thread([self, cancel, options, expected, pose_source = pose_source_,
                          lms = lms_port_.toStdString(),

@@ -1,5 +1,6 @@
 // clearway-cli serve and acquire --remote as processes, as an operator runs them.
 
+#include <QRegularExpression>
 #include <QThread>
 #include <fstream>
 #include <string>
@@ -46,12 +47,18 @@ class RemoteCommands : public ::testing::Test {
     return acquireFrom(QString("127.0.0.1:%1").arg(port_), extra, err);
   }
 
-  // Starts `serve` with `arguments` (after "serve --credentials ... --listen 127.0.0.1:0"); its
-  // HOST:PORT once it listens, empty on failure.
-  QString startRobot(QProcess& serve, const QStringList& arguments) {
-    serve.start(
-        CLEARWAY_CLI,
-        QStringList{"serve", "--credentials", credentials_, "--listen", "127.0.0.1:0"} + arguments);
+  // Starts `serve` with `arguments` (after "serve --credentials ... --listen 127.0.0.1:0"), run
+  // by `launcher` when given (e.g. a shell that limits it first); its HOST:PORT once it listens,
+  // empty on failure.
+  QString startRobot(QProcess& serve, const QStringList& arguments,
+                     const QStringList& launcher = {}) {
+    const QStringList command = QStringList{CLEARWAY_CLI, "serve",    "--credentials",
+                                            credentials_, "--listen", "127.0.0.1:0"} +
+                                arguments;
+    if (launcher.isEmpty())
+      serve.start(command.front(), command.mid(1));
+    else
+      serve.start(launcher.front(), launcher.mid(1) + command);
     if (!serve.waitForStarted(kWaitMs) ||
         !waitFor([&] { return serve.canReadLine() || serve.waitForReadyRead(100); }))
       return {};
@@ -261,6 +268,60 @@ TEST_F(RemoteCommands, LinesWithoutAnAngleAreKeptInTheRobotsJournal) {
   ASSERT_EQ(journals.size(), 1) << log.toStdString();
   EXPECT_GT(journaledLines(QDir(storage).filePath(journals.front())), 0u);
   EXPECT_TRUE(log.contains("holds lines the scan could not place")) << log.toStdString();
+}
+
+// The robot's storage fills up mid-scan (here serve runs under a 16 kB file size limit: EFBIG, as
+// ENOSPC on a full disk, without root): the console and the log are told at once, with the cause
+// and the lines the journal holds. The scan cannot be saved on the robot either: the console is
+// told so and how many lines the robot's journal keeps, and keeps every line itself. Nothing was
+// said while the scan ran, the console heard its lines were "kept" in the journal (a third of
+// them were), and the log blamed lines "the scan could not place".
+TEST_F(RemoteCommands, ARobotWhoseDiskFillsUpSaysSoAtOnceAndNamesTheCause) {
+  RosiEmulator emulator(*sim::builtinScene("garage"), {2.0, 3});  // 4 s a turn of 300 lines
+  const QString storage = dir_.filePath("full-robot");
+  QProcess serve;
+  const QString robot =
+      startRobot(serve,
+                 {"--lms", QString::fromStdString(emulator.lmsPort()), "--turntable",
+                  QString::fromStdString(emulator.turntablePort()), "--storage", storage},
+                 {"/bin/sh", "-c", "trap '' XFSZ; ulimit -f 32; exec \"$@\"", "sh"});
+  ASSERT_FALSE(robot.isEmpty());
+  QProcess acquire;
+  acquire.start(CLEARWAY_CLI, {"acquire", "--remote", robot, "--credentials", credentials_, "-o",
+                               dir_.filePath("full.pcd")});
+  ASSERT_TRUE(acquire.waitForStarted(kWaitMs));
+  QString err;
+  std::uint64_t sent_when_told = 0;
+  ASSERT_TRUE(waitFor([&] {
+    acquire.waitForReadyRead(20);
+    err += QString::fromUtf8(acquire.readAllStandardError());
+    sent_when_told = emulator.linesSent();
+    return err.contains("robot: ") || acquire.state() == QProcess::NotRunning;
+  }));
+  EXPECT_LT(sent_when_told, 200u) << "told once the scan had ended: " << err.toStdString();
+  acquire.waitForFinished(kWaitMs);
+  ASSERT_EQ(acquire.state(), QProcess::NotRunning);
+  err += QString::fromUtf8(acquire.readAllStandardError());
+  EXPECT_EQ(acquire.exitCode(), 1) << err.toStdString();
+  EXPECT_TRUE(err.contains(QRegularExpression(
+      "robot: cannot write the journal [^ ]*scan-[0-9]*\\.journal: File too large: the journal "
+      "holds the first [0-9]+ lines")))
+      << err.toStdString();
+  EXPECT_TRUE(err.contains(QRegularExpression(
+      "The robot could not save the scan: [^ ]*: cannot write: File too large \\([^ ]*\\.journal "
+      "keeps [0-9]+ of its [0-9]+ lines\\)")))
+      << err.toStdString();
+  EXPECT_GT(linesIn(dir_.filePath("full.partial.pcd")), 250u) << "the console keeps every line";
+  serve.terminate();
+  ASSERT_TRUE(serve.waitForFinished(kWaitMs));
+  const QString log = QString::fromUtf8(serve.readAllStandardError());
+  EXPECT_TRUE(log.contains("scanner: cannot write the journal")) << log.toStdString();
+  EXPECT_TRUE(
+      log.contains(QRegularExpression("incomplete: [0-9]+ lines: The robot could not save "
+                                      "the scan: [^ ]*: cannot write: File too large")))
+      << log.toStdString();
+  EXPECT_TRUE(log.contains("the scan could not be saved")) << log.toStdString();
+  EXPECT_FALSE(log.contains("could not place")) << log.toStdString();
 }
 
 // A scan that fails before any line arrives (here a "laser" that never answers) ends with the

@@ -51,6 +51,9 @@ class ScannerDevice : public QObject {
   void scanFinished(std::shared_ptr<const clearway::Scan> scan, bool complete);
   // An operator-readable reason.
   void failed(const QString& reason);
+  // Something the operator must know at once that does not end the scan (its journal's disk is
+  // full: the lines go on into memory, and only those before are safe from a crash).
+  void warning(const QString& text);
   // Where the scanner is for the scan that starts (e.g. the arm's tilt and roll), in words.
   void poseReceived(const QString& summary);
 
