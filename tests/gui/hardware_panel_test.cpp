@@ -16,6 +16,7 @@
 #include <QTemporaryDir>
 #include <QtTest>
 
+#include "../support/file_size_limit.h"
 #include "clearway/hardware/rosi_emulator.h"
 #include "clearway/io/scan_io.h"
 #include "clearway/sim/builtin_scenes.h"
@@ -165,6 +166,47 @@ class HardwarePanelTest : public QObject {
     QVERIFY(acquired.sensor_pose);
     QVERIFY(std::abs(acquired.sensor_pose->position[2] -
                      emulator.worldFromScanner().translation.z()) < 1e-5);
+  }
+
+  // The scans folder's disk fills up mid-scan (here a file size limit on this process: EFBIG, as
+  // ENOSPC on a full disk): the panel says so while the scan runs, and when the scan cannot be
+  // saved either, that its journal keeps only the lines before it stopped. It said nothing until
+  // the end, and then that the journal kept the scan's lines.
+  void aJournalThatStopsIsSaidWhileTheScanRuns() {
+    clearway::hardware::RosiEmulator emulator(*clearway::sim::builtinScene("garage"), {2.0, 2});
+    QTemporaryDir directory;
+    HardwarePanel panel;
+    panel.setScanFolder(directory.filePath("serial"));
+    panel.findChild<QComboBox*>("scannerDevice")->setCurrentIndex(1);
+    panel.findChild<QLineEdit*>("lmsPort")->setText(QString::fromStdString(emulator.lmsPort()));
+    panel.findChild<QLineEdit*>("turntablePort")
+        ->setText(QString::fromStdString(emulator.turntablePort()));
+    panel.findChild<QSpinBox*>("scanLines")->setValue(300);  // a turn, 4 s
+    auto* scan = panel.findChild<QPushButton*>("scanButton");
+    panel.connectScanner();
+    QTRY_VERIFY_WITH_TIMEOUT(scan->isEnabled(), kTimeoutMs);
+    QSignalSpy status(&panel, &HardwarePanel::statusChanged);
+    QSignalSpy unsaved(&panel, &HardwarePanel::scanEndedUnsaved);
+    const auto said = [&] {
+      QStringList all;
+      for (const QList<QVariant>& signal : status)
+        all << signal.at(0).toString();
+      return all.join(" | ");
+    };
+    clearway::test::FileSizeLimit limit(16 * 1024);  // about 15 lines of the journal
+    QVERIFY(limit.ok());
+    scan->click();
+    QTRY_VERIFY_WITH_TIMEOUT(said().contains("cannot write the journal"), kTimeoutMs);
+    const std::uint64_t sent_when_said = emulator.linesSent();
+    QVERIFY(unsaved.isEmpty());
+    QVERIFY2(sent_when_said < 200, "said once the scan had ended");
+    QVERIFY(unsaved.wait(kTimeoutMs));
+    limit.lift();
+    const QString end = status.last().at(0).toString();
+    QVERIFY2(end.contains("could not be saved") && end.contains("File too large") &&
+                 end.contains("Only the lines its journal held when it stopped are kept") &&
+                 end.contains("the journal holds the first"),
+             qPrintable(end));
   }
 };
 

@@ -60,6 +60,7 @@ struct HardwarePanel::Private {
   QLineEdit* mounting = nullptr;
   QLabel* arm_pose = nullptr;
   QString journal;  // of the scan in progress on a serial device
+  QString warning;  // what the device warned of during this scan (its journal stopped)
   QPushButton* scan = nullptr;
   QPushButton* cancel = nullptr;
   QLabel* status = nullptr;
@@ -327,6 +328,11 @@ void HardwarePanel::connectScanner() {
   });
   connect(device, &ScannerDevice::failed, this,
           [this](const QString& reason) { emit statusChanged(reason); });
+  // Said while the scan runs: the operator can still make space, or stop it.
+  connect(device, &ScannerDevice::warning, this, [this](const QString& text) {
+    d_->warning = text;
+    emit statusChanged(text);
+  });
   connect(
       device, &ScannerDevice::scanFinished, this,
       [this](std::shared_ptr<const Scan> scan, bool complete) {
@@ -355,12 +361,16 @@ void HardwarePanel::connectScanner() {
             writeTextFileAtomically(hardware::poseSidecarPathFor(path.toStdString()),
                                     hardware::poseSidecarJson(*serial->lastPose()));
         } catch (const std::exception& error) {
+          QString kept;
+          if (!d_->journal.isEmpty() && d_->warning.isEmpty())
+            kept =
+                tr(" Its lines are kept in %1 (clearway-cli acquire --recover).").arg(d_->journal);
+          else if (!d_->journal.isEmpty())  // its journal stopped, on the same full disk
+            kept = tr(" Only the lines its journal held when it stopped are kept, in %1 "
+                      "(clearway-cli acquire --recover): %2")
+                       .arg(d_->journal, d_->warning);
           emit statusChanged(
-              tr("The scan could not be saved: %1").arg(QString::fromUtf8(error.what())) +
-              (d_->journal.isEmpty() ? QString()
-                                     : tr(" Its lines are kept in %1 (clearway-cli acquire "
-                                          "--recover).")
-                                           .arg(d_->journal)));
+              tr("The scan could not be saved: %1").arg(QString::fromUtf8(error.what())) + kept);
           emit scanEndedUnsaved();
           return;
         }
@@ -402,6 +412,7 @@ void HardwarePanel::startScan() {
     request.journal = d_->journal.toStdString();
   }
   d_->progress->setValue(0);
+  d_->warning.clear();
   emit scanStarted();
   d_->scanner->startScan(request);
 }

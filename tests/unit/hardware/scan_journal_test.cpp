@@ -3,14 +3,13 @@
 
 #include <gtest/gtest.h>
 
-#include <sys/resource.h>
 #include <sys/stat.h>
 
-#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 
+#include "../../support/file_size_limit.h"
 #include "clearway/hardware/rosi_emulator.h"
 #include "clearway/hardware/scan_journal.h"
 #include "clearway/hardware/serial_acquisition.h"
@@ -21,39 +20,12 @@ namespace clearway::hardware {
 namespace {
 
 namespace fs = std::filesystem;
+using test::FileSizeLimit;
 
 std::string readAll(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), {}};
 }
-
-// While it lives, a file this process writes cannot grow beyond `bytes`: write(2) fails with
-// EFBIG (SIGXFSZ ignored), as it fails with ENOSPC on a full disk, with no root and no mount.
-// Lifted, writes succeed again, as on a disk where space was made.
-class FileSizeLimit {
- public:
-  explicit FileSizeLimit(rlim_t bytes) {
-    previous_handler_ = std::signal(SIGXFSZ, SIG_IGN);
-    ::getrlimit(RLIMIT_FSIZE, &previous_);
-    rlimit limit = previous_;
-    limit.rlim_cur = bytes;
-    EXPECT_EQ(::setrlimit(RLIMIT_FSIZE, &limit), 0);
-  }
-  ~FileSizeLimit() { lift(); }
-  FileSizeLimit(const FileSizeLimit&) = delete;
-  FileSizeLimit& operator=(const FileSizeLimit&) = delete;
-  void lift() {
-    if (lifted_) return;
-    lifted_ = true;
-    ::setrlimit(RLIMIT_FSIZE, &previous_);
-    std::signal(SIGXFSZ, previous_handler_);
-  }
-
- private:
-  rlimit previous_{};
-  void (*previous_handler_)(int) = SIG_DFL;
-  bool lifted_ = false;
-};
 
 class JournalFolder : public ::testing::Test {
  protected:
@@ -232,6 +204,7 @@ TEST_F(JournalFolder, AFailedWriteKeepsTheLinesBeforeItRecoverable) {
     ScanJournal writer(journal(), 0);
     ASSERT_TRUE(writer.error().empty()) << writer.error();
     FileSizeLimit limit(16 * 1024);  // about 15 lines
+    ASSERT_TRUE(limit.ok());
     for (; given < 100 && writer.error().empty(); ++given) {
       writer.angle({std::int64_t(given) * 26'000, double(given) * 1.2});
       writer.line(std::int64_t(given) * 26'000 + 1000, ranges);
@@ -276,6 +249,7 @@ TEST_F(JournalFolder, AJournalThatFailsMidScanIsToldAtOnceAndTheScanGoesOn) {
   Acquisition acquired;
   {
     FileSizeLimit limit(16 * 1024);  // about 15 of the 120 lines
+    ASSERT_TRUE(limit.ok());
     acquired = acquireRosiScan(emulator.lmsPort(), emulator.turntablePort(), options);
   }
   EXPECT_TRUE(acquired.complete) << acquired.error;
