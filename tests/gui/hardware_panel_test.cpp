@@ -26,6 +26,16 @@ using clearway::ui::HardwarePanel;
 
 namespace {
 constexpr int kTimeoutMs = 30000;
+
+// The panel set to the serial RoSi on the emulator's ports, scans going to `folder`.
+void useEmulatorsPorts(HardwarePanel& panel, const clearway::hardware::RosiEmulator& emulator,
+                       const QString& folder) {
+  panel.setScanFolder(folder);
+  panel.findChild<QComboBox*>("scannerDevice")->setCurrentIndex(1);
+  panel.findChild<QLineEdit*>("lmsPort")->setText(QString::fromStdString(emulator.lmsPort()));
+  panel.findChild<QLineEdit*>("turntablePort")
+      ->setText(QString::fromStdString(emulator.turntablePort()));
+}
 }  // namespace
 
 class HardwarePanelTest : public QObject {
@@ -138,11 +148,7 @@ class HardwarePanelTest : public QObject {
     clearway::hardware::RosiEmulator emulator(*clearway::sim::builtinScene("garage"), options);
     QTemporaryDir directory;
     HardwarePanel panel;
-    panel.setScanFolder(directory.filePath("serial"));
-    panel.findChild<QComboBox*>("scannerDevice")->setCurrentIndex(1);
-    panel.findChild<QLineEdit*>("lmsPort")->setText(QString::fromStdString(emulator.lmsPort()));
-    panel.findChild<QLineEdit*>("turntablePort")
-        ->setText(QString::fromStdString(emulator.turntablePort()));
+    useEmulatorsPorts(panel, emulator, directory.filePath("serial"));
     panel.findChild<QLineEdit*>("armPort")->setText(QString::fromStdString(emulator.armPort()));
     panel.findChild<QSpinBox*>("scanLines")->setValue(40);
     auto* scan = panel.findChild<QPushButton*>("scanButton");
@@ -176,11 +182,7 @@ class HardwarePanelTest : public QObject {
     clearway::hardware::RosiEmulator emulator(*clearway::sim::builtinScene("garage"), {2.0, 2});
     QTemporaryDir directory;
     HardwarePanel panel;
-    panel.setScanFolder(directory.filePath("serial"));
-    panel.findChild<QComboBox*>("scannerDevice")->setCurrentIndex(1);
-    panel.findChild<QLineEdit*>("lmsPort")->setText(QString::fromStdString(emulator.lmsPort()));
-    panel.findChild<QLineEdit*>("turntablePort")
-        ->setText(QString::fromStdString(emulator.turntablePort()));
+    useEmulatorsPorts(panel, emulator, directory.filePath("serial"));
     panel.findChild<QSpinBox*>("scanLines")->setValue(300);  // a turn, 4 s
     auto* scan = panel.findChild<QPushButton*>("scanButton");
     panel.connectScanner();
