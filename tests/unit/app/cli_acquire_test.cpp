@@ -268,7 +268,9 @@ TEST(CliAcquire, KillNineAtRandomMomentsLosesNoLineReceived) {
   for (int run = 0; run < kRuns; ++run) {
     SCOPED_TRACE("run " + std::to_string(run));
     test::TemporaryDirectory directory;
-    hardware::RosiEmulator emulator(*sim::builtinScene("garage"), {4.0, std::uint32_t(run)});
+    // 4 s a turn: the kill, at most 1.5 s after the first line, lands mid-scan however late this
+    // thread wakes on a loaded machine (at 2 s a turn one scan was done before it, beside a build).
+    hardware::RosiEmulator emulator(*sim::builtinScene("garage"), {2.0, std::uint32_t(run)});
     const fs::path scan = directory / "scan.pcd", journal = directory / "scan.journal";
     Background acquire({"acquire", "--lms", emulator.lmsPort(), "--turntable",
                         emulator.turntablePort(), "--timeout", "10000", "-o", scan.string()},
