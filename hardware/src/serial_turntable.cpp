@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <optional>
 
 #include "serial_port.h"
 
@@ -13,10 +12,7 @@ struct SerialTurntable::Impl {
   detail::SerialPort serial;
   turntable::LineSplitter lines;
   std::vector<std::string> backlog;  // lines read while waiting for an answer
-  // The table's clock mapped onto the host's: host = table + offset. The smallest difference
-  // seen is the one least delayed on its way (a sample can arrive late, never early).
-  std::optional<std::int64_t> offset_us;
-  std::int64_t last_table_us = 0;
+  turntable::TableClock clock;
 };
 
 SerialTurntable::SerialTurntable(const std::string& port) : impl_(std::make_unique<Impl>(port)) {}
@@ -78,16 +74,10 @@ std::vector<turntable::AngleSample> SerialTurntable::readSamples(std::int64_t no
   std::vector<turntable::AngleSample> samples;
   for (const std::string& line : lines) {
     const auto reply = turntable::parseReply(line);
-    if (!reply || !std::holds_alternative<turntable::AngleSample>(*reply)) continue;
-    turntable::AngleSample sample = std::get<turntable::AngleSample>(*reply);
-    if (sample.time_us < impl_->last_table_us) impl_->offset_us.reset();  // its clock restarted
-    impl_->last_table_us = sample.time_us;
-    const std::int64_t offset = now_us - sample.time_us;
-    if (!impl_->offset_us || offset < *impl_->offset_us) impl_->offset_us = offset;
-    sample.time_us += *impl_->offset_us;
-    samples.push_back(sample);
+    if (reply && std::holds_alternative<turntable::AngleSample>(*reply))
+      samples.push_back(std::get<turntable::AngleSample>(*reply));
   }
-  return samples;
+  return impl_->clock.toHost(std::move(samples), now_us);
 }
 
 }  // namespace clearway::hardware

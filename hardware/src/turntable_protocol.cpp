@@ -81,4 +81,16 @@ std::optional<double> AngleTrack::angleAt(std::int64_t time_us) const {
   return unwrapped_[k - 1] + t * (unwrapped_[k] - unwrapped_[k - 1]);
 }
 
+std::vector<AngleSample> TableClock::toHost(std::vector<AngleSample> samples,
+                                            std::int64_t read_us) {
+  for (AngleSample& sample : samples) {
+    if (sample.time_us < last_table_us_) offset_us_.reset();  // its clock restarted
+    last_table_us_ = sample.time_us;
+    const std::int64_t offset = read_us - sample.time_us;
+    if (!offset_us_ || offset < *offset_us_) offset_us_ = offset;
+    sample.time_us += *offset_us_;
+  }
+  return samples;
+}
+
 }  // namespace clearway::hardware::turntable

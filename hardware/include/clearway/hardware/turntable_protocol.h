@@ -63,4 +63,19 @@ class AngleTrack {
   std::vector<double> unwrapped_;
 };
 
+// The table stamps its samples with its own clock; the host maps them onto its own:
+// host = table + offset. The offset is the smallest host-minus-table difference seen, the sample
+// least delayed on its way (a sample can arrive late, never early); a table whose clock restarts
+// is re-synchronised.
+class TableClock {
+ public:
+  // `samples`, stamped by the table, were read together at the host's `read_us`: the same samples
+  // stamped with the host's clock.
+  std::vector<AngleSample> toHost(std::vector<AngleSample> samples, std::int64_t read_us);
+
+ private:
+  std::optional<std::int64_t> offset_us_;
+  std::int64_t last_table_us_ = 0;
+};
+
 }  // namespace clearway::hardware::turntable
