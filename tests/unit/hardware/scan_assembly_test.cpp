@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
+#include <vector>
 
 #include "../../../hardware/src/scan_assembler.h"
 #include "clearway/hardware/turntable_protocol.h"
@@ -102,6 +104,46 @@ TEST(ScanAssembly, AHostHeldUpForSecondsLeavesNoCompleteSweep) {
   const std::string problem = assembler.sweepProblem();
   EXPECT_NE(problem, "");
   EXPECT_NE(problem.find("after line"), std::string::npos) << problem;
+}
+
+// The host was busy for the first 300 ms after START (it started the laser's output and created
+// the journal): its first read held every angle sample since, and the laser's first lines. Each
+// sample of that read was stamped with the read's time, so the oldest angle stood at the newest
+// time: the first lines were placed tens of degrees off (and a "full turn" of 12 lines was saved).
+TEST(ScanAssembly, TheFirstLinesGetTheirAngleWhenTheFirstReadHoldsManySamples) {
+  constexpr double kTableClockUs = -7e6;  // the table's own clock runs 7 s behind the host's
+  constexpr double kLateUs = 2'000.0;     // each sample and line arrives this long after it
+  constexpr double kFirstReadUs = 300'000.0, kLinesFromUs = 100'000.0;
+  turntable::TableClock clock;
+  detail::ScanAssembler assembler(0);
+  std::vector<double> measured_us;  // when each line was measured
+  double sample_us = 0.0, line_us = kLinesFromUs;
+  // After the first read, the host reads whatever arrives when it arrives.
+  while (!assembler.complete() && sample_us < kTurnUs + 2e6) {
+    const double read_us = std::max(kFirstReadUs, std::min(sample_us, line_us) + kLateUs);
+    std::vector<turntable::AngleSample> samples;
+    for (; sample_us + kLateUs <= read_us; sample_us += kSamplePeriodUs)
+      samples.push_back({std::int64_t(sample_us + kTableClockUs),
+                         std::fmod(kTableDegPerS * sample_us / 1e6, 360.0)});
+    for (const turntable::AngleSample& sample : clock.toHost(samples, std::int64_t(read_us)))
+      assembler.addAngle(sample);
+    for (; line_us + kLateUs <= read_us; line_us += kLinePeriodUs) {
+      assembler.addLine(std::int64_t(read_us), detail::LineRanges(detail::kRosiPoints, 3.0));
+      measured_us.push_back(line_us);
+    }
+    assembler.place();
+  }
+  ASSERT_TRUE(assembler.complete());
+  assembler.refine();
+  EXPECT_EQ(assembler.sweepProblem(), "");
+  EXPECT_EQ(assembler.untagged(), 0u);
+  const std::vector<ScanLine>& lines = assembler.scan().lines;
+  EXPECT_GE(lines.size(), 330u);  // a full turn is 337.5 lines
+  // The first read's samples are stamped as late as its newest (taken 20 ms before the read,
+  // the others' 2 ms): 0.7 deg at 40 deg/s.
+  for (std::size_t l = 0; l < lines.size(); ++l)
+    ASSERT_NEAR(lines[l].beta * 180.0 / std::numbers::pi, kTableDegPerS * measured_us[l] / 1e6, 1.0)
+        << "line " << l << " of " << lines.size();
 }
 
 // The table turns one way: a sample 228 deg on (a host held up for 6 s) has moved on, not 132 deg

@@ -64,5 +64,29 @@ TEST(TurntableProtocol, AnglesAreInterpolatedAtLineTimesAcrossTheWrap) {
   EXPECT_FALSE(AngleTrack{}.before(0));
 }
 
+// The first read of a scan holds every sample since START (the host was busy starting the laser's
+// output): read at one moment, each was taken at its own. Each was stamped with the read's time;
+// all but the first were then dropped as out of order, and the oldest angle stood at the newest
+// time.
+TEST(TurntableProtocol, SamplesReadTogetherKeepTheTablesSpacing) {
+  TableClock clock;
+  const auto burst =
+      clock.toHost({{1'000'000, 0.0}, {1'020'000, 0.9}, {1'040'000, 1.8}}, 8'043'000);
+  ASSERT_EQ(burst.size(), 3u);
+  // The newest sample is the least delayed of the read: 3 ms.
+  EXPECT_EQ(burst[0].time_us, 8'003'000);
+  EXPECT_EQ(burst[1].time_us, 8'023'000);
+  EXPECT_EQ(burst[2].time_us, 8'043'000);
+  // A later sample less delayed (1 ms) maps what follows.
+  EXPECT_EQ(clock.toHost({{1'060'000, 2.7}}, 8'061'000).at(0).time_us, 8'061'000);
+  EXPECT_EQ(clock.toHost({{1'080'000, 3.6}}, 8'095'000).at(0).time_us, 8'081'000);
+  // A clock that restarts within a read: each side mapped by its own samples.
+  const auto restarted = clock.toHost({{1'100'000, 4.5}, {2'000, 5.4}, {22'000, 6.3}}, 8'124'000);
+  ASSERT_EQ(restarted.size(), 3u);
+  EXPECT_EQ(restarted[0].time_us, 8'101'000);
+  EXPECT_EQ(restarted[1].time_us, 8'104'000);
+  EXPECT_EQ(restarted[2].time_us, 8'124'000);
+}
+
 }  // namespace
 }  // namespace clearway::hardware::turntable

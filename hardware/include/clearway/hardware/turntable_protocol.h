@@ -70,7 +70,7 @@ class AngleTrack {
 class TableClock {
  public:
   // `samples`, stamped by the table, were read together at the host's `read_us`: the same samples
-  // stamped with the host's clock.
+  // stamped with the host's clock, each with the offset known once the newest was read.
   std::vector<AngleSample> toHost(std::vector<AngleSample> samples, std::int64_t read_us);
 
  private:
