@@ -247,9 +247,9 @@ std::string ScanAssembler::sweepProblem() const {
       return "the lines' angles fall back by " + shown(-steps[k]) + " deg" + where +
              ": the acquisition was held up (the computer paused or overloaded) and what it read "
              "afterwards cannot be placed";
-    // A scan's first lines were seen tens of degrees ahead of the next on a loaded machine (the
-    // emulator at 20x), their stamps the least sure (a grid fitted under the fewest arrivals):
-    // holes are judged from kStampLag lines on.
+    // The first read's angle samples are stamped as late as the newest of them (TableClock): on
+    // a loaded machine the emulator's first lines at 20x were still up to 7 deg (6 steps) behind
+    // the next. Holes are judged from kStampLag lines on.
     if (k >= kStampLag && steps[k] > kLargestLineStepFactor * usual)
       return "the lines' angles jump " + shown(steps[k]) + " deg" + where + " (usually " +
              shown(usual) +

@@ -88,7 +88,7 @@ class ScanAssembler {
   // Why the placed lines are no sweep of the table (empty when they are): the table turns one way
   // at a steady speed, so each line's angle lies about one step beyond the line's before it. A
   // line more than kLargestLineStepFactor usual steps back (anywhere) or beyond (from kStampLag
-  // lines on: the first lines' stamps are the least sure) was placed by angles or times that
+  // lines on: the first read's angle stamps are the least sure) was placed by angles or times that
   // cannot be trusted (a host held up for seconds, its backlog read in one
   // burst: 157 lines with a 113 deg jump back were saved as a complete turn).
   std::string sweepProblem() const;
