@@ -255,6 +255,14 @@ std::string ScanAssembler::sweepProblem() const {
              shown(usual) +
              "): lines are missing there (the acquisition was held up, or lines were lost)";
   }
+  // The turn was found complete by the stamps its lines had while it ran; stamped again at its
+  // end they may cover less (a host held up 3 s at the end of the turn, its backlog of lines read
+  // in one burst: 299 lines over 319 deg, one step each, were saved as a complete turn).
+  const double covered = (lines.back().beta - lines.front().beta) / kDeg;
+  if (complete_ && target_lines_ == 0 && covered < 360.0 - kLargestLineStepFactor * usual)
+    return "the lines cover " + shown(covered) +
+           " deg, not the full turn: the acquisition was held up (the computer paused or "
+           "overloaded) and the lines it read afterwards cannot be placed";
   return {};
 }
 

@@ -90,7 +90,8 @@ class ScanAssembler {
   // line more than kLargestLineStepFactor usual steps back (anywhere) or beyond (from kStampLag
   // lines on: the first read's angle stamps are the least sure) was placed by angles or times that
   // cannot be trusted (a host held up for seconds, its backlog read in one
-  // burst: 157 lines with a 113 deg jump back were saved as a complete turn).
+  // burst: 157 lines with a 113 deg jump back were saved as a complete turn). A turn found
+  // complete while it ran must still cover 360 deg (less kLargestLineStepFactor usual steps).
   std::string sweepProblem() const;
   static constexpr double kLargestLineStepFactor = 3.0;
 

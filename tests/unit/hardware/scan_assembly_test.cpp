@@ -146,6 +146,39 @@ TEST(ScanAssembly, TheFirstLinesGetTheirAngleWhenTheFirstReadHoldsManySamples) {
         << "line " << l << " of " << lines.size();
 }
 
+// The host held up for 3 s near the end of the turn: the laser's lines of that time came in one
+// burst, the table's angles kept their own stamps. The turn was found complete by the lines'
+// stamps while it ran; stamped again at its end they covered 319 deg, one step each, and 299
+// lines were saved as a complete turn.
+TEST(ScanAssembly, AHostHeldUpAtTheEndOfTheTurnLeavesNoCompleteSweep) {
+  constexpr double kLateUs = 2'000.0, kHeldFromUs = 7e6, kHeldForUs = 3e6;
+  turntable::TableClock clock;
+  detail::ScanAssembler assembler(0);
+  double sample_us = 0.0, line_us = 0.0;
+  while (!assembler.complete() && sample_us < kTurnUs + 4e6) {
+    double read_us = std::min(sample_us, line_us) + kLateUs;
+    if (read_us > kHeldFromUs && read_us < kHeldFromUs + kHeldForUs)
+      read_us = kHeldFromUs + kHeldForUs;
+    std::vector<turntable::AngleSample> samples;
+    for (; sample_us + kLateUs <= read_us; sample_us += kSamplePeriodUs)
+      samples.push_back(
+          {std::int64_t(sample_us), std::fmod(kTableDegPerS * sample_us / 1e6, 360.0)});
+    for (const turntable::AngleSample& sample : clock.toHost(samples, std::int64_t(read_us)))
+      assembler.addAngle(sample);
+    for (; line_us + kLateUs <= read_us; line_us += kLinePeriodUs)
+      assembler.addLine(std::int64_t(read_us), detail::LineRanges(detail::kRosiPoints, 3.0));
+    assembler.place();
+  }
+  if (!assembler.complete()) assembler.finishIncomplete();
+  assembler.refine();
+  const std::vector<ScanLine>& lines = assembler.scan().lines;
+  ASSERT_GE(lines.size(), 3u);
+  const double covered_deg = (lines.back().beta - lines.front().beta) * 180.0 / std::numbers::pi;
+  if (assembler.complete() && covered_deg >= 360.0) return;  // a full turn after all
+  const std::string problem = assembler.sweepProblem();
+  EXPECT_NE(problem, "") << lines.size() << " lines over " << covered_deg << " deg";
+}
+
 // The table turns one way: a sample 228 deg on (a host held up for 6 s) has moved on, not 132 deg
 // back.
 TEST(ScanAssembly, TheTablesAngleMovesOnHoweverFar) {
