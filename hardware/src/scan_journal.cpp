@@ -305,7 +305,7 @@ Acquisition recoverJournal(const std::filesystem::path& file) {
   if (!ended)
     result.error = "recovered from " + file.filename().string() +
                    ": the acquisition ended without "
-                   "finishing (crash or kill) after " +
+                   "finishing (a crash, a kill, or the journal's disk full) after " +
                    std::to_string(result.lines_received) + " lines";
   // "END complete" over fewer lines than the target is not a complete scan (159 of 400 lines were
   // recovered as complete).
