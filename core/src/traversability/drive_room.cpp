@@ -30,12 +30,7 @@ void markFitsWithoutRoomToDrive(TraversabilityMap& map, const CellClasses& class
   const double room_cells = (robot.width - robot.length) / grid.resolution + 1.0;
   if (room_cells <= 1.0 || orientations == 0 || pose_fits.size() != grid.cells() * orientations)
     return;
-  const double coarse_radius = footprints.inner_radius + kGreenMarginCells;
-  const double exact_radius = footprints.inner_radius - kExactTestSlackCells;
-  // Beyond this lenient clearance the exact test finds nothing to stop it: the enlarged box holds
-  // the nominal one at every centre it tries, and a blocking cell's points lie within 0.71 cells
-  // of its centre.
-  const double sure_exact_radius = footprints.outer_radius + 1.0;
+  const TestRadii radii(footprints);
   // The tests of one pose, as the placement makes them, each made once: what a test finds is
   // recorded in `pose_fits` (several threads may make the same test and store the same answer).
   auto fits = [&](const Eigen::Vector2i& at, std::size_t k) {
@@ -46,21 +41,13 @@ void markFitsWithoutRoomToDrive(TraversabilityMap& map, const CellClasses& class
     // An unobserved cell the exact test tolerates (a gap between a sparse scan's lines) does not
     // stop the run; the placement made no test there to record.
     if (state == CellState::kUnknown)
-      return tester.lenientClearance(at.x(), at.y()) >= exact_radius &&
+      return tester.lenientClearance(at.x(), at.y()) >= radii.exact &&
              tester.fitsExactlyInCell(at.x(), at.y(), int(k));
     std::atomic_ref<std::uint8_t> recorded(pose_fits[cell * orientations + k]);
     const auto known = PoseFit(recorded.load(std::memory_order_relaxed));
     if (known == PoseFit::kClear || known == PoseFit::kCareful) return true;
     if (known == PoseFit::kBlocked) return false;
-    const float free_radius = tester.clearance(at.x(), at.y());
-    PoseFit found = PoseFit::kBlocked;
-    if (free_radius > footprints.outer_radius ||
-        (free_radius >= coarse_radius && tester.fitsEnlarged(at.x(), at.y(), int(k))))
-      found = PoseFit::kClear;
-    else if (const float lenient = tester.lenientClearance(at.x(), at.y());
-             lenient > sure_exact_radius ||
-             (lenient >= exact_radius && tester.fitsExactlyInCell(at.x(), at.y(), int(k))))
-      found = PoseFit::kCareful;
+    const PoseFit found = testPose(tester, radii, at.x(), at.y(), int(k));
     recorded.store(std::uint8_t(found), std::memory_order_relaxed);
     return found != PoseFit::kBlocked;
   };

@@ -15,6 +15,7 @@
 #include "cell_classes.h"
 #include "clearway/segmentation/params.h"
 #include "clearway/segmentation/scan_analysis.h"
+#include "clearway/traversability/reachability.h"
 
 namespace clearway::detail {
 
@@ -100,6 +101,15 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
 // sparse cell. There the placement with sparse cells blocked tests exactly as the one without.
 std::vector<std::uint8_t> cellsNearSparse(const std::vector<std::uint8_t>& sparse,
                                           const MapGrid& grid, const Footprints& footprints);
+
+// Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged box in
+// every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
+struct TestRadii {
+  double coarse, exact;
+  explicit TestRadii(const Footprints& footprints)
+      : coarse(footprints.inner_radius + kGreenMarginCells),
+        exact(footprints.inner_radius - kExactTestSlackCells) {}
+};
 
 // The two tests of one pose, callable from several threads at once.
 class FootprintTester {
@@ -211,5 +221,19 @@ class FootprintTester {
   }
   std::vector<Turn> turns_;
 };
+
+// One pose's fit as the placement tests it: green where the coarse test passes (tried where the
+// clearance lets it), careful where only the exact test does (where the lenient clearance lets it).
+// Inline: completeFits calls it for every pose the label loop did not test.
+inline PoseFit testPose(const FootprintTester& tester, const TestRadii& radii, int column, int row,
+                        int orientation) {
+  if (tester.clearance(column, row) >= radii.coarse &&
+      tester.fitsEnlarged(column, row, orientation))
+    return PoseFit::kClear;
+  if (tester.lenientClearance(column, row) >= radii.exact &&
+      tester.fitsExactlyInCell(column, row, orientation))
+    return PoseFit::kCareful;
+  return PoseFit::kBlocked;
+}
 
 }  // namespace clearway::detail

@@ -30,6 +30,7 @@ using detail::FootprintTester;
 using detail::kExactTestSlackCells;
 using detail::kGreenMarginCells;
 using detail::makeFootprints;
+using detail::TestRadii;
 
 // Rows of a placement are dealt out in turn (row r to part r mod parts), so that the walls, where
 // the tests cost, are shared evenly; more parts than threads let a thread that is done early
@@ -45,15 +46,6 @@ bool fitsComplete(const std::uint8_t* fits, std::size_t orientations) {
     return fit == std::uint8_t(PoseFit::kUntested) || fit == kCoarseFailed;
   });
 }
-
-// Within the inscribed radius (plus the coarse test's margin) something blocks the enlarged box in
-// every orientation; below inradius - kExactTestSlackCells the exact test cannot pass.
-struct TestRadii {
-  double coarse, exact;
-  explicit TestRadii(const Footprints& footprints)
-      : coarse(footprints.inner_radius + kGreenMarginCells),
-        exact(footprints.inner_radius - kExactTestSlackCells) {}
-};
 
 // The loose placement's fits (PoseFit per cell * orientations + k), and the cells whose tests read
 // something sparse cells change (cellsNearSparse): elsewhere the strict placement reads them.
@@ -191,18 +183,15 @@ void completeFits(const std::vector<std::uint32_t>& cells, const Footprints& foo
         if (fitsComplete(fits, orientations)) continue;
         const int row = int(cell / std::size_t(grid.width));
         const int column = int(cell - std::size_t(row) * std::size_t(grid.width));
-        const bool coarse = tester.clearance(column, row) >= radii.coarse;
         const bool exact = tester.lenientClearance(column, row) >= radii.exact;
         for (std::size_t k = 0; k < orientations; ++k) {
-          std::uint8_t fit = fits[k];
+          std::uint8_t& fit = fits[k];
           if (fit == std::uint8_t(PoseFit::kUntested))
-            fit = coarse && tester.fitsEnlarged(column, row, int(k)) ? std::uint8_t(PoseFit::kClear)
-                                                                     : kCoarseFailed;
-          if (fit == kCoarseFailed)
+            fit = std::uint8_t(detail::testPose(tester, radii, column, row, int(k)));
+          else if (fit == kCoarseFailed)
             fit = std::uint8_t(exact && tester.fitsExactlyInCell(column, row, int(k))
                                    ? PoseFit::kCareful
                                    : PoseFit::kBlocked);
-          fits[k] = fit;
         }
       }
     });
