@@ -51,7 +51,16 @@ std::string sparseOrBlockedReason(const TraversabilityMap& map, const RobotParam
     return analysis.reason;
   const auto sparse =
       std::count(map.reasons.begin(), map.reasons.end(), std::uint8_t(CellReason::kSparse));
+  const auto above_view =
+      std::count(map.reasons.begin(), map.reasons.end(), std::uint8_t(CellReason::kAboveView));
   std::ostringstream reason;
+  if (above_view > 0 && above_view >= sparse) {
+    reason << "nothing traversable: on " << above_view
+           << " cells where the robot fits, its band up to its height (" << robot.height
+           << " m) was above everything the scanner looked at, so an overhang there would never "
+              "have been measured (point the turntable's axis up, or raise the scanner)";
+    return reason.str();
+  }
   if (sparse == 0) {
     // Ground was found, and no cell is green for a reason of the map's own: say which.
     const std::size_t careful = map.counts[std::size_t(CellLabel::kCareful)] +

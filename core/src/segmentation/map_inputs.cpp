@@ -20,6 +20,7 @@
 #include "parallel.h"
 #include "plane_borders.h"
 #include "release_memory.h"
+#include "view_limit.h"
 
 namespace clearway {
 namespace {
@@ -630,6 +631,7 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   inputs.contacts = detail::groundContacts(inputs);
   inputs.floor_crossings = detail::floorCrossings(
       scan, analysis.sensor, map_from_scanner, inputs.grid, inputs.ground_plane, inputs.obstacles);
+  inputs.view = detail::viewLimitOf(scan, analysis.sensor, map_from_scanner, threads);
   return inputs;
 }
 

@@ -7,6 +7,7 @@
 #include <queue>
 
 #include "../segmentation/parallel.h"
+#include "view_band.h"
 
 namespace clearway::detail {
 namespace {
@@ -542,7 +543,9 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   markSteps(analysis, robot, classes, threads);
 
   // The robot stands on its own place: the floor under it is ground, seen or not.
+  std::vector<std::uint8_t> own_cells;
   if (own_place) {
+    own_cells.assign(cells, 0);
     const double margin = 0.5 * grid.resolution;
     // Only the cells around the box can lie in it.
     const double reach = own_box.reach(margin);
@@ -562,6 +565,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
           continue;
         classes.state[cell] = CellState::kGround;
         classes.reason[cell] = CellReason::kNone;
+        own_cells[cell] = 1;
       }
   }
   // Free ground whose samples are too far apart to vouch for it, or that lies in the shadow of a
@@ -580,6 +584,10 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
     if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
                          classes.state[cell] == CellState::kLowObstacle))
       classes.sparse[cell] = 1;
+  // Ground whose band up to the robot's height (and the headroom it keeps) no beam rose through.
+  classes.above_view = cellsAboveTheView(analysis, classes.state, own_cells, top);
+  for (std::size_t cell = 0; cell < cells; ++cell)
+    if (classes.above_view[cell]) classes.sparse[cell] = 1;
   std::vector<std::uint8_t> blocking(inputs.obstacles.size(), 0);
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
     blocking[i] = own_body[i] ? kOwnBody : (blocks(i) ? kBlocks : 0);

@@ -26,8 +26,11 @@ struct CellClasses {
   // 1 on free cells whose ground samples are too far apart to rule out an obstacle taller than
   // the robot's step between them (MapInputs::ground_spacing against the step), where the
   // robot's band above the ground lies in an overhang's shadow, or in the wedge a blocking point
-  // may reach into towards the next line (MapInputs::sweep_neighbours).
+  // may reach into towards the next line (MapInputs::sweep_neighbours), or where the band was
+  // above the scanner's view (`above_view`).
   std::vector<std::uint8_t> sparse;
+  // 1 on free cells whose band up to the robot's height no beam rose through (view_band.h).
+  std::vector<std::uint8_t> above_view;
 };
 
 // Ground planes reachable from the reference through contacts no higher than the robot's step

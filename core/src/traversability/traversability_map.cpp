@@ -19,6 +19,7 @@
 #include "reach_limit.h"
 #include "reachability_search.h"
 #include "unseen_surroundings.h"
+#include "view_band.h"
 
 namespace clearway {
 namespace {
@@ -220,6 +221,8 @@ std::string_view reasonName(CellReason reason) {
       return "too sparse";
     case CellReason::kUnseenAround:
       return "too little seen around it";
+    case CellReason::kAboveView:
+      return "not seen up to the robot's height";
   }
   return "";
 }
@@ -335,11 +338,18 @@ TraversabilityMap computeTraversability(const ScanAnalysis& analysis, const Robo
   detail::parallelTasks(std::move(tasks), threads);
   if (has_sparse) {
     auto fits = [](std::uint8_t label) { return robotFits(CellLabel(label)); };
+    const bool above_view = std::any_of(classes.above_view.begin(), classes.above_view.end(),
+                                        [](std::uint8_t a) { return a; });
+    const std::vector<std::uint8_t> view_is_why =
+        above_view ? detail::sparseOnlyAboveTheView(classes, map.grid,
+                                                    int(std::ceil(footprints.outer_radius)))
+                   : std::vector<std::uint8_t>(cells, 0);
     for (std::size_t cell = 0; cell < cells; ++cell) {
       if (fits(map.labels[cell])) continue;  // fits on vouched-for ground
       if (fits(loose.labels[cell])) {
         map.labels[cell] = std::uint8_t(CellLabel::kObstacle);
-        map.reasons[cell] = std::uint8_t(CellReason::kSparse);
+        map.reasons[cell] =
+            std::uint8_t(view_is_why[cell] ? CellReason::kAboveView : CellReason::kSparse);
       } else {
         // Does not fit even over sparse ground: the reason is not the density.
         map.labels[cell] = loose.labels[cell];

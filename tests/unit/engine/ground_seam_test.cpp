@@ -166,7 +166,9 @@ TEST(GroundSeam, ASlabJointJustHigherThanTheStepIsNotCrossed) {
   // join's step is, with 2 cm for what either side is measured to, it is not crossed.
   const eval::Evaluation e =
       slabJoint({154, 2, 0.0034, false, 21.34, 0.0, 0.928, 0.926, 0.14}, {{0.81, 0.919, 1.2}});
-  EXPECT_GT(e.map.traversable_cells, 9000U);
+  // (Without the floor beside the scanner, where the band up to the robot's height was above its
+  // view: docs/ALGORITHM.md, "Above the scanner's view".)
+  EXPECT_GT(e.map.traversable_cells, 8000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 

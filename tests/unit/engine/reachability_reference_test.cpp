@@ -17,6 +17,7 @@
 #include "../../../core/src/traversability/footprints.h"
 #include "../../../core/src/traversability/motion_primitives.h"
 #include "../../../core/src/traversability/unseen_surroundings.h"
+#include "../../../core/src/traversability/view_band.h"
 #include "clearway/segmentation/stairs.h"
 #include "engine_fixtures.h"
 
@@ -302,11 +303,16 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
       detail::classifyCells(analysis, params.robot, grid_params, &produced.robot_pose);
 
   // As computeTraversability: with sparse ground, the search runs on the loose placement and a
-  // cell that fits only over sparse ground is orange with the reason "too sparse".
+  // cell that fits only over sparse ground is orange with the reason "too sparse", or "not seen up
+  // to the robot's height" where only cells above the scanner's view are within its reach.
   const Placement loose = placePlainly(produced, classes, params.robot);
   Placement merged = loose;
   const bool has_sparse =
       std::any_of(classes.sparse.begin(), classes.sparse.end(), [](std::uint8_t s) { return s; });
+  const double outer_radius =
+      detail::makeFootprints(params.robot, produced.grid.resolution, produced.yaws, 1).outer_radius;
+  const std::vector<std::uint8_t> view_is_why =
+      detail::sparseOnlyAboveTheView(classes, produced.grid, int(std::ceil(outer_radius)));
   if (has_sparse) {
     const Placement strict =
         placePlainly(produced, detail::withSparseBlocked(classes), params.robot);
@@ -316,7 +322,8 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
       if (fitsLabel(strict.labels[cell])) continue;
       if (fitsLabel(loose.labels[cell])) {
         merged.labels[cell] = std::uint8_t(CellLabel::kObstacle);
-        merged.reasons[cell] = std::uint8_t(CellReason::kSparse);
+        merged.reasons[cell] =
+            std::uint8_t(view_is_why[cell] ? CellReason::kAboveView : CellReason::kSparse);
       } else {
         merged.labels[cell] = loose.labels[cell];
         merged.reasons[cell] = loose.reasons[cell];
@@ -327,10 +334,7 @@ TEST_P(TraversabilityAgainstReference, LabelsReachAndVisitedPosesAreThoseOfThePl
   reference.labels = merged.labels;
   reference.reasons = merged.reasons;
   // Too narrow only for unobserved cells around: unknown (the production pass; not under test).
-  detail::markUnseenSurroundings(
-      classes,
-      detail::makeFootprints(params.robot, produced.grid.resolution, produced.yaws, 1).outer_radius,
-      reference);
+  detail::markUnseenSurroundings(classes, outer_radius, reference);
   labelStairs(analysis, params.robot, reference);
 
   std::size_t label_differences = 0, reach_differences = 0, fit_differences = 0, visited = 0;

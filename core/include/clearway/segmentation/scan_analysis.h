@@ -102,6 +102,26 @@ inline double heightOnPlane(const Eigen::Vector3d& c, double x, double y) {
 // longer triangle keeps the step its corners span (MapInputs::seam_step).
 inline constexpr double kStepRunLength = 0.15;
 
+// How high the scanner looked about itself (map frame): per azimuth sector and per horizontal
+// reach, the steepest rise (tan of the elevation) of a beam in that sector that went at least
+// that far. A beam that came back went as far as its return; one that did not (no echo, out of
+// range) went on. A cell's band between the ground and the robot's height was in view only where
+// such a beam rises at least to its top over the cell (docs/ALGORITHM.md, "Above the scanner's
+// view"): a RoSi whose turntable axis points down sees nothing above its own height, and an
+// overhang there is never measured.
+struct ViewLimit {
+  static constexpr int kAzimuthSectors = 360;
+  static constexpr double kReachStep = 0.5;  // [m]
+  static constexpr int kReachClasses = 161;  // 0 .. 80 m; the last class: that far or farther
+  // [sector * kReachClasses + reach class]; -infinity where no beam went that far.
+  std::vector<float> rise;
+
+  bool known() const { return !rise.empty(); }
+  // The steepest rise of the beams about `azimuth` [rad] that went `distance` [m] or farther.
+  float riseAt(double azimuth, double distance) const;
+  static int sectorOf(double azimuth);
+};
+
 struct MapInputs {
   MapGrid grid;
   std::vector<std::int16_t> ground_plane;  // per cell: index into planes, or -1
@@ -127,6 +147,7 @@ struct MapInputs {
   SweepNeighbours sweep_neighbours;  // empty for multi-beam frames
   std::vector<GroundContact> contacts;
   GroundMesh ground_mesh;
+  ViewLimit view;
 };
 
 struct StageTiming {

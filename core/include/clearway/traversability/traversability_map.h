@@ -55,6 +55,10 @@ enum class CellReason : std::uint8_t {
   // the cells around it were not seen (no blocking cell within the box's reach): nothing seen
   // stops the robot, and nothing vouches for it.
   kUnseenAround = 8,
+  // Orange, not green: the robot fits, but its band up to its height was above everything the
+  // scanner looked at there (a turntable axis pointing down sees nothing above the scanner): an
+  // overhang could stand there unmeasured.
+  kAboveView = 9,
 };
 std::string_view reasonName(CellReason reason);
 std::string_view labelName(CellLabel label);
