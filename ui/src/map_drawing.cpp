@@ -168,7 +168,7 @@ int drawLegend(QPainter& painter, QPoint top_left, PaletteKind palette) {
   const std::pair<CellLabel, QString> entries[] = {
       {CellLabel::kTraversable, QObject::tr("traversable")},
       {CellLabel::kCareful, QObject::tr("careful (narrow)")},
-      {CellLabel::kObstacle, QObject::tr("low obstacle or too sparse")},
+      {CellLabel::kObstacle, QObject::tr("low obstacle, sparse or unseen above")},
       {CellLabel::kImpassable, QObject::tr("impassable")},
       {CellLabel::kStairs, QObject::tr("stairs, with care")},
       {CellLabel::kUnknown, QObject::tr("not seen enough")}};
