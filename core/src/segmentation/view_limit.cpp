@@ -19,11 +19,14 @@ int ViewLimit::sectorOf(double azimuth) {
   return ((sector % kAzimuthSectors) + kAzimuthSectors) % kAzimuthSectors;
 }
 
+int ViewLimit::reachClassAt(double distance) {
+  const double reach = std::ceil(std::max(0.0, distance) / kReachStep);
+  return int(std::min(reach, double(kReachClasses - 1)));
+}
+
 float ViewLimit::riseAt(double azimuth, double distance) const {
   if (!known()) return -std::numeric_limits<float>::infinity();
-  const double reach = std::ceil(std::max(0.0, distance) / kReachStep);
-  const int reach_class = int(std::min(reach, double(kReachClasses - 1)));
-  return rise[std::size_t(sectorOf(azimuth)) * kReachClasses + std::size_t(reach_class)];
+  return rise[std::size_t(sectorOf(azimuth)) * kReachClasses + std::size_t(reachClassAt(distance))];
 }
 
 namespace detail {
@@ -205,29 +208,28 @@ void bridgeGaps(Table& table, int most_gap) {
 // Records one line's beams at a time: its returns, then its fan's angles without a return.
 class LineBeams {
  public:
-  LineBeams(const Scan& scan, const Eigen::Matrix3d& rotation, const FanAngles& fan, bool rings,
-            Table& table)
-      : scan_(scan), rotation_(rotation), fan_(fan), rings_(rings), table_(table) {}
+  LineBeams(const Scan& scan, const Eigen::Matrix3d& rotation, const FanAngles& fan, Table& table)
+      : scan_(scan), rotation_(rotation), fan_(fan), table_(table) {}
 
   // `empty_azimuth`: the line's azimuth about the axis when none of its beams came back.
   void record(const ScanLine& line, double empty_azimuth) {
-    sides_.clear();
+    sides_used_ = 0;
     for (std::size_t i = line.first; i < line.first + line.count; ++i) {
       if (!scan_.isValid(i)) continue;
       const Point3f& p = scan_.points[i];
       const Eigen::Vector3d direction = rotation_ * directionOf(p);
       detail::record(table_, direction, reachClassOf(direction.head<2>().norm()));
       const Eigen::Vector2d across(p.x, p.y);
-      if (rings_ || across.squaredNorm() < kLeastHorizontal * kLeastHorizontal) continue;
-      auto side = std::find_if(sides_.begin(), sides_.end(),
-                               [&](const Side& s) { return s.towards.dot(across) > 0.0; });
-      if (side == sides_.end()) side = sides_.insert(sides_.end(), Side{across.normalized(), {}});
+      if (across.squaredNorm() < kLeastHorizontal * kLeastHorizontal) continue;
+      Side* side = nullptr;
+      for (std::size_t k = 0; k < sides_used_ && !side; ++k)
+        if (sides_[k].towards.dot(across) > 0.0) side = &sides_[k];
+      if (!side) side = &newSide(across.normalized());
       side->cosine.push_back(cosineFromAxis(p));
     }
-    if (std::isfinite(empty_azimuth))
-      sides_.push_back({{std::cos(empty_azimuth), std::sin(empty_azimuth)}, {}});
-    for (Side& side : sides_)
-      recordLostBeams(side);
+    if (std::isfinite(empty_azimuth)) newSide({std::cos(empty_azimuth), std::sin(empty_azimuth)});
+    for (std::size_t k = 0; k < sides_used_; ++k)
+      recordLostBeams(sides_[k]);
   }
 
  private:
@@ -237,6 +239,15 @@ class LineBeams {
     Eigen::Vector2d towards;
     std::vector<double> cosine;
   };
+
+  // The next side, its buffer kept from line to line.
+  Side& newSide(const Eigen::Vector2d& towards) {
+    if (sides_used_ == sides_.size()) sides_.emplace_back();
+    Side& side = sides_[sides_used_++];
+    side.towards = towards;
+    side.cosine.clear();
+    return side;
+  }
 
   // The fan's angles no return came back from: beams that went on (no echo, out of range).
   void recordLostBeams(Side& side) {
@@ -260,10 +271,36 @@ class LineBeams {
   const Scan& scan_;
   const Eigen::Matrix3d& rotation_;
   const FanAngles& fan_;
-  bool rings_;
   Table& table_;
   std::vector<Side> sides_;
+  std::size_t sides_used_ = 0;
 };
+
+// A multi-beam head turns every ring all the way round: where its returns are missing (the sky,
+// beyond range) it looked all the same, and its top ring's rise is its view in every sector and
+// at every reach.
+ViewLimit ringsView(const Scan& scan, const Eigen::Matrix3d& rotation, int threads) {
+  const std::size_t parts = chunkCount(scan.size(), threads);
+  std::vector<float> steepest(parts, kNoBeam);
+  parallelChunks(scan.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
+    for (std::size_t i = begin; i < end; ++i) {
+      if (!scan.isValid(i)) continue;
+      const Eigen::Vector3d direction = rotation * directionOf(scan.points[i]);
+      const double horizontal = direction.head<2>().norm();
+      if (horizontal >= kLeastHorizontal)
+        steepest[part] = std::max(steepest[part], float(direction.z() / horizontal));
+    }
+  });
+  ViewLimit view;
+  view.rise.assign(std::size_t(ViewLimit::kAzimuthSectors) * ViewLimit::kReachClasses,
+                   *std::max_element(steepest.begin(), steepest.end()));
+  return view;
+}
+
+// Lines at least this far apart about the turntable axis make a dense scan's view [rad]: its fans
+// a fraction of a degree apart see about what their neighbours see, and a view of fewer beams is
+// never higher (cells out of it are only ever more, never fewer).
+constexpr double kViewLineSpacing = 0.5 * std::numbers::pi / 180.0;
 
 }  // namespace
 
@@ -278,55 +315,54 @@ ViewLimit viewLimitOf(const Scan& scan, const SensorGeometry& sensor,
       scan.lines.empty() || map_from_scanner.translation().z() < kLowestScannerHeight)
     return {};
   const Eigen::Matrix3d rotation = map_from_scanner.linear();
-  const std::size_t table_size = std::size_t(ViewLimit::kAzimuthSectors) * ViewLimit::kReachClasses;
-  const std::size_t parts = chunkCount(scan.lines.size(), threads);
+  if (rings) return ringsView(scan, rotation, threads);
+
+  // Every line of a scan of fans a degree or so apart, every few of a dense one's.
+  const std::size_t stride =
+      sensor.between_line_step > 0.0
+          ? std::max<std::size_t>(1, std::size_t(kViewLineSpacing / sensor.between_line_step))
+          : 1;
+  std::vector<std::size_t> lines;
+  for (std::size_t l = 0; l < scan.lines.size(); l += stride)
+    lines.push_back(l);
+  const std::size_t parts = chunkCount(lines.size(), threads);
   // A turntable turns one fan: every line spans the same angles from the axis, from the least to
   // the greatest of all returns' (as cosines: the greatest cosine is the least angle).
   std::vector<double> greatest_cosine(parts, -1.0), least_cosine(parts, 1.0);
-  if (!rings)
-    parallelChunks(scan.lines.size(), threads,
-                   [&](std::size_t begin, std::size_t end, std::size_t part) {
-                     for (std::size_t i = scan.lines[begin].first;
-                          i < scan.lines[end - 1].first + scan.lines[end - 1].count; ++i)
-                       if (scan.isValid(i)) {
-                         const double cosine = cosineFromAxis(scan.points[i]);
-                         greatest_cosine[part] = std::max(greatest_cosine[part], cosine);
-                         least_cosine[part] = std::min(least_cosine[part], cosine);
-                       }
-                   });
+  parallelChunks(lines.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const ScanLine& line = scan.lines[lines[k]];
+      for (std::size_t i = line.first; i < line.first + line.count; ++i)
+        if (scan.isValid(i)) {
+          const double cosine = cosineFromAxis(scan.points[i]);
+          greatest_cosine[part] = std::max(greatest_cosine[part], cosine);
+          least_cosine[part] = std::min(least_cosine[part], cosine);
+        }
+    }
+  });
   const FanAngles fan =
       fanAngles(std::acos(*std::max_element(greatest_cosine.begin(), greatest_cosine.end())),
                 std::acos(*std::min_element(least_cosine.begin(), least_cosine.end())),
                 sensor.along_line_step > 0.0 ? sensor.along_line_step : kDefaultFanStep);
-  const std::vector<double> empty_line_azimuth =
-      rings ? std::vector<double>(scan.lines.size(), std::numeric_limits<double>::quiet_NaN())
-            : azimuthsOfEmptyLines(scan);
+  const std::vector<double> empty_line_azimuth = azimuthsOfEmptyLines(scan);
 
+  const std::size_t table_size = std::size_t(ViewLimit::kAzimuthSectors) * ViewLimit::kReachClasses;
   std::vector<Table> tables(parts, Table(table_size, kNoBeam));
-  parallelChunks(scan.lines.size(), threads,
-                 [&](std::size_t begin, std::size_t end, std::size_t part) {
-                   LineBeams beams{scan, rotation, fan, rings, tables[part]};
-                   for (std::size_t l = begin; l < end; ++l)
-                     beams.record(scan.lines[l], empty_line_azimuth[l]);
-                 });
+  parallelChunks(lines.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
+    LineBeams beams{scan, rotation, fan, tables[part]};
+    for (std::size_t k = begin; k < end; ++k)
+      beams.record(scan.lines[lines[k]], empty_line_azimuth[lines[k]]);
+  });
   Table table = std::move(tables.front());
   for (std::size_t part = 1; part < tables.size(); ++part)
     for (std::size_t i = 0; i < table_size; ++i)
       table[i] = std::max(table[i], tables[part][i]);
-
-  if (rings) {
-    // Every ring goes all the way round: where its returns are missing (the sky, beyond range),
-    // it looked all the same.
-    const float top = *std::max_element(table.begin(), table.end());
-    std::fill(table.begin(), table.end(), top);
-  } else {
-    keepFarthestReaching(table);
-    widenBySector(table);
-    const double step_deg = sensor.between_line_step * 180.0 / std::numbers::pi;
-    const int most_gap =
-        std::clamp(int(std::ceil(kBridgedSteps * step_deg)), kLeastGapSectors, kMostGapSectors);
-    bridgeGaps(table, most_gap);
-  }
+  keepFarthestReaching(table);
+  widenBySector(table);
+  const double used_step_deg = double(stride) * sensor.between_line_step * 180.0 / std::numbers::pi;
+  const int most_gap =
+      std::clamp(int(std::ceil(kBridgedSteps * used_step_deg)), kLeastGapSectors, kMostGapSectors);
+  bridgeGaps(table, most_gap);
   ViewLimit view;
   view.rise = std::move(table);
   return view;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace clearway::detail {
 
@@ -13,6 +14,14 @@ std::vector<std::uint8_t> cellsAboveTheView(const ScanAnalysis& analysis,
   std::vector<std::uint8_t> above(grid.cells(), 0);
   if (!inputs.view.known()) return above;
   const Eigen::Vector3d scanner = analysis.map_from_scanner.translation();
+  // Per reach class, the lowest rise of any sector: a band whose top needs no more is in view
+  // whatever its azimuth (a multi-beam head's view is one rise everywhere).
+  std::vector<float> lowest(ViewLimit::kReachClasses, std::numeric_limits<float>::infinity());
+  for (int sector = 0; sector < ViewLimit::kAzimuthSectors; ++sector)
+    for (int c = 0; c < ViewLimit::kReachClasses; ++c)
+      lowest[std::size_t(c)] = std::min(
+          lowest[std::size_t(c)],
+          inputs.view.rise[std::size_t(sector) * ViewLimit::kReachClasses + std::size_t(c)]);
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row);
@@ -22,6 +31,7 @@ std::vector<std::uint8_t> cellsAboveTheView(const ScanAnalysis& analysis,
       const double distance = away.norm();
       if (distance < grid.resolution) continue;
       const double needed = (inputs.ground_height[cell] + band_top - scanner.z()) / distance;
+      if (needed <= lowest[std::size_t(ViewLimit::reachClassAt(distance))]) continue;
       if (inputs.view.riseAt(std::atan2(away.y(), away.x()), distance) < needed) above[cell] = 1;
     }
   return above;

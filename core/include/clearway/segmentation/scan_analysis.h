@@ -120,6 +120,8 @@ struct ViewLimit {
   // The steepest rise of the beams about `azimuth` [rad] that went `distance` [m] or farther.
   float riseAt(double azimuth, double distance) const;
   static int sectorOf(double azimuth);
+  // The reach class whose beams all went `distance` [m] or farther.
+  static int reachClassAt(double distance);
 };
 
 struct MapInputs {
