@@ -355,7 +355,8 @@ std::vector<vtkSmartPointer<vtkProp>> legendProps(PaletteKind palette) {
   const std::pair<QColor, QString> entries[] = {
       {cellColour(CellLabel::kTraversable, palette), QObject::tr("traversable")},
       {cellColour(CellLabel::kCareful, palette), QObject::tr("careful")},
-      {cellColour(CellLabel::kObstacle, palette), QObject::tr("low obstacle, sparse or unseen above")},
+      {cellColour(CellLabel::kObstacle, palette),
+       QObject::tr("low obstacle, sparse or unseen above")},
       {cellColour(CellLabel::kImpassable, palette), QObject::tr("impassable, walls")},
       {cellColour(CellLabel::kStairs, palette), QObject::tr("stairs, with care")},
       {QColor(40, 120, 255), QObject::tr("robot (arrow: heading)")},
