@@ -41,6 +41,15 @@ constexpr double kReturnCover = 1.5;
 // Along-fan step used when the sensor's is unknown [rad].
 constexpr double kDefaultFanStep = 0.5 * std::numbers::pi / 180.0;
 
+// A return this close to the turntable axis (the sine of its angle from it) has no side of the
+// axis to speak of: its direction about the axis is mostly noise. It covers its angle on every side
+// of its line.
+constexpr double kLeastSideSine = 0.087;  // 5 deg
+
+// Lines with returns either side of a line without any lie at most this far apart about the axis
+// for its azimuth to be taken between theirs [rad].
+constexpr double kMostInterpolatedTurn = 30.0 * std::numbers::pi / 180.0;
+
 // Sectors between fans take the lower of their sides' views across gaps up to this many turntable
 // steps (a fan's beams spread in azimuth once the axis is tilted), and at least kLeastGapSectors.
 constexpr double kBridgedSteps = 3.0;
@@ -89,6 +98,13 @@ double cosineFromAxis(const Point3f& p) {
   return norm > 0.0 ? double(p.z) / norm : 1.0;
 }
 
+// Whether a return lies far enough from the axis to tell which side of it it is on.
+bool awayFromAxis(const Point3f& p) {
+  const double across = double(p.x) * p.x + double(p.y) * p.y;
+  return across >= kLeastSideSine * kLeastSideSine * (across + double(p.z) * p.z) &&
+         across >= kLeastHorizontal * kLeastHorizontal;
+}
+
 // The fan's angles from the axis where lost beams may be, a sensor's step apart: each one's
 // direction in the fan's plane, and the cosines of the angles a return covering it lies between.
 struct FanAngles {
@@ -109,8 +125,10 @@ FanAngles fanAngles(double first, double last, double step) {
 }
 
 // Per line, the azimuth about the axis of a line none of whose beams came back (a half line into
-// the sky): its turntable angle, else halfway in order between the nearest lines with returns on
-// either side (the lines are in turntable order); NaN for lines with returns, or none to go by.
+// the sky): its turntable angle, else interpolated in order between the nearest lines with returns
+// on either side (the lines are in turntable order) when those lie within kMostInterpolatedTurn
+// of each other; NaN for lines with returns, or none to go by (a fan's two halves written one
+// after the other would turn half a turn from one to the next).
 std::vector<double> azimuthsOfEmptyLines(const Scan& scan) {
   const std::size_t lines = scan.lines.size();
   std::vector<double> own(lines, std::numeric_limits<double>::quiet_NaN());
@@ -119,7 +137,7 @@ std::vector<double> azimuthsOfEmptyLines(const Scan& scan) {
     const ScanLine& line = scan.lines[l];
     for (std::size_t i = line.first; i < line.first + line.count; ++i) {
       const Point3f& p = scan.points[i];
-      if (scan.isValid(i) && std::hypot(p.x, p.y) >= kLeastHorizontal) {
+      if (scan.isValid(i) && awayFromAxis(p)) {
         own[l] = std::atan2(p.y, p.x);
         has_return[l] = true;
         break;
@@ -140,6 +158,7 @@ std::vector<double> azimuthsOfEmptyLines(const Scan& scan) {
       ++after;
     if (!has_return[before] || !has_return[after]) continue;
     const double turn = std::remainder(own[after] - own[before], 2.0 * std::numbers::pi);
+    if (std::abs(turn) > kMostInterpolatedTurn) continue;
     empty[l] = own[before] + turn * double(l - before) / double(after - before);
   }
   return empty;
@@ -214,13 +233,17 @@ class LineBeams {
   // `empty_azimuth`: the line's azimuth about the axis when none of its beams came back.
   void record(const ScanLine& line, double empty_azimuth) {
     sides_used_ = 0;
+    near_axis_.clear();
     for (std::size_t i = line.first; i < line.first + line.count; ++i) {
       if (!scan_.isValid(i)) continue;
       const Point3f& p = scan_.points[i];
       const Eigen::Vector3d direction = rotation_ * directionOf(p);
       detail::record(table_, direction, reachClassOf(direction.head<2>().norm()));
+      if (!awayFromAxis(p)) {
+        near_axis_.push_back(cosineFromAxis(p));
+        continue;
+      }
       const Eigen::Vector2d across(p.x, p.y);
-      if (across.squaredNorm() < kLeastHorizontal * kLeastHorizontal) continue;
       Side* side = nullptr;
       for (std::size_t k = 0; k < sides_used_ && !side; ++k)
         if (sides_[k].towards.dot(across) > 0.0) side = &sides_[k];
@@ -228,8 +251,10 @@ class LineBeams {
       side->cosine.push_back(cosineFromAxis(p));
     }
     if (std::isfinite(empty_azimuth)) newSide({std::cos(empty_azimuth), std::sin(empty_azimuth)});
-    for (std::size_t k = 0; k < sides_used_; ++k)
+    for (std::size_t k = 0; k < sides_used_; ++k) {
+      sides_[k].cosine.insert(sides_[k].cosine.end(), near_axis_.begin(), near_axis_.end());
       recordLostBeams(sides_[k]);
+    }
   }
 
  private:
@@ -274,6 +299,7 @@ class LineBeams {
   Table& table_;
   std::vector<Side> sides_;
   std::size_t sides_used_ = 0;
+  std::vector<double> near_axis_;  // cosines of the returns near the axis
 };
 
 // A multi-beam head turns every ring all the way round: where its returns are missing (the sky,

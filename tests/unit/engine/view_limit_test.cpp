@@ -127,5 +127,39 @@ TEST(AboveTheView, AFansAnglesWithoutAReturnAreBeamsThatWentOn) {
   EXPECT_LT(ground_only.riseAt(0.0, 12.0), -1e30F);
 }
 
+// Half lines over a quarter turn (azimuths 0 .. 90 deg) of ground returns and a treetop on the
+// first, each with one return 2 deg from the axis whose direction about it points 120 deg away:
+// that close to the axis a return's side of it is noise. It must not make a side of the fan
+// where no fan went, with sky beams there.
+TEST(AboveTheView, AReturnBesideTheAxisMakesNoSideOfTheFan) {
+  constexpr int kLines = 46;
+  Scan scan;
+  for (int l = 0; l < kLines; ++l) {
+    const double azimuth = l * 2.0 * kDeg;
+    ScanLine line{scan.size(), 0};
+    auto add = [&](double polar, double about, double range) {
+      const Eigen::Vector3d direction(std::sin(polar) * std::cos(about),
+                                      std::sin(polar) * std::sin(about), std::cos(polar));
+      const Eigen::Vector3d p = range * direction;
+      scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
+      scan.status.push_back(PointStatus::kValid);
+      ++line.count;
+    };
+    add(2.0 * kDeg, azimuth + 120.0 * kDeg, 3.0);
+    if (l == 0) add(10.0 * kDeg, azimuth, 8.0);
+    for (int polar_deg = 95; polar_deg <= 170; ++polar_deg)
+      add(polar_deg * kDeg, azimuth, -1.0 / std::cos(polar_deg * kDeg));
+    scan.lines.push_back(line);
+  }
+  SensorGeometry sensor = turntableOf(180);  // 2 deg between lines
+  Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
+  map_from_scanner.translation().z() = 1.0;
+  const ViewLimit view = detail::viewLimitOf(scan, sensor, map_from_scanner, 1);
+  ASSERT_TRUE(view.known());
+  EXPECT_GT(view.riseAt(45.0 * kDeg, 3.0), 1.0F);  // where the fans went: their sky beams
+  for (double azimuth_deg = 130.0; azimuth_deg <= 330.0; azimuth_deg += 20.0)
+    EXPECT_LT(view.riseAt(azimuth_deg * kDeg, 3.0), 1.0F) << azimuth_deg;
+}
+
 }  // namespace
 }  // namespace clearway
