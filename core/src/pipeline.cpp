@@ -58,7 +58,7 @@ std::string sparseOrBlockedReason(const TraversabilityMap& map, const RobotParam
     reason << "nothing traversable: on " << above_view
            << " cells where the robot fits, its band up to its height (" << robot.height
            << " m) was above everything the scanner looked at, so an overhang there would never "
-              "have been measured (point the turntable's axis up, or raise the scanner)";
+              "have been measured (tilt the scanner to look higher, or raise it)";
     return reason.str();
   }
   if (sparse == 0) {
