@@ -47,6 +47,12 @@ TEST(AboveTheView, AnAxisPointingDownShowsNothingGreenUnderAPipeItCannotSee) {
   EXPECT_GT(cellsWithReason(map, CellReason::kAboveView), 10'000U);
   EXPECT_NE(run.result.reason.find("above everything the scanner looked at"), std::string::npos)
       << run.result.reason;
+  // Where the robot stands is its own body's place, not a band the scanner had to see: it stays
+  // green or careful, not orange for the view.
+  const Eigen::Vector2i own = map.grid.cellOf(map.robot_pose.x, map.robot_pose.y);
+  const CellLabel own_label = map.label(own.x(), own.y());
+  EXPECT_TRUE(own_label == CellLabel::kTraversable || own_label == CellLabel::kCareful)
+      << labelName(own_label);
 }
 
 TEST(AboveTheView, ARobotLowerThanTheScannerIsSeenAsFarAsItsBeamsPassOverIt) {
