@@ -73,28 +73,33 @@ TEST(AboveTheView, ARobotLowerThanTheScannerIsSeenAsFarAsItsBeamsPassOverIt) {
   EXPECT_GT(nearest, 12.0);
 }
 
+// Appends a return `polar` from the (vertical) axis, `azimuth` about it, `range` away to the scan
+// and to its last line.
+void addReturn(Scan& scan, double polar, double azimuth, double range) {
+  const Eigen::Vector3d p =
+      range * Eigen::Vector3d(std::sin(polar) * std::cos(azimuth),
+                              std::sin(polar) * std::sin(azimuth), std::cos(polar));
+  scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
+  scan.status.push_back(PointStatus::kValid);
+  ++scan.lines.back().count;
+}
+
+// A half line's ground returns, 95 to 170 deg from the axis, 1 deg apart, on the ground 1 m below.
+void addGroundReturns(Scan& scan, double azimuth) {
+  for (int polar_deg = 95; polar_deg <= 170; ++polar_deg)
+    addReturn(scan, polar_deg * kDeg, azimuth, -1.0 / std::cos(polar_deg * kDeg));
+}
+
 // Fans at `lines` azimuths about a vertical axis, 1 m above flat ground: returns from the ground
-// only (90 to 170 deg from the axis, 1 deg apart), and when `with_high_return`, one return 10 deg
-// from the axis on the first fan (a treetop). The file keeps returns only, as an unorganised one.
+// only, and when `with_high_return`, one return 10 deg from the axis on the first fan (a treetop).
+// The file keeps returns only, as an unorganised one.
 Scan groundFans(int lines, bool with_high_return) {
   Scan scan;
   for (int l = 0; l < lines; ++l) {
     const double azimuth = l * 360.0 / lines * kDeg;
-    ScanLine line{scan.size(), 0};
-    auto add = [&](double polar, double range) {
-      const Eigen::Vector3d direction(std::sin(polar) * std::cos(azimuth),
-                                      std::sin(polar) * std::sin(azimuth), std::cos(polar));
-      const Eigen::Vector3d p = range * direction;
-      scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
-      scan.status.push_back(PointStatus::kValid);
-      ++line.count;
-    };
-    if (with_high_return && l == 0) add(10.0 * kDeg, 8.0);
-    for (int polar_deg = 95; polar_deg <= 170; ++polar_deg) {
-      const double polar = polar_deg * kDeg;
-      add(polar, -1.0 / std::cos(polar));  // on the ground, 1 m below
-    }
-    scan.lines.push_back(line);
+    scan.lines.push_back({scan.size(), 0});
+    if (with_high_return && l == 0) addReturn(scan, 10.0 * kDeg, azimuth, 8.0);
+    addGroundReturns(scan, azimuth);
   }
   return scan;
 }
@@ -142,20 +147,10 @@ TEST(AboveTheView, AReturnBesideTheAxisMakesNoSideOfTheFan) {
   Scan scan;
   for (int l = 0; l < kLines; ++l) {
     const double azimuth = l * 2.0 * kDeg;
-    ScanLine line{scan.size(), 0};
-    auto add = [&](double polar, double about, double range) {
-      const Eigen::Vector3d direction(std::sin(polar) * std::cos(about),
-                                      std::sin(polar) * std::sin(about), std::cos(polar));
-      const Eigen::Vector3d p = range * direction;
-      scan.points.push_back({float(p.x()), float(p.y()), float(p.z())});
-      scan.status.push_back(PointStatus::kValid);
-      ++line.count;
-    };
-    add(2.0 * kDeg, azimuth + 120.0 * kDeg, 3.0);
-    if (l == 0) add(10.0 * kDeg, azimuth, 8.0);
-    for (int polar_deg = 95; polar_deg <= 170; ++polar_deg)
-      add(polar_deg * kDeg, azimuth, -1.0 / std::cos(polar_deg * kDeg));
-    scan.lines.push_back(line);
+    scan.lines.push_back({scan.size(), 0});
+    addReturn(scan, 2.0 * kDeg, azimuth + 120.0 * kDeg, 3.0);
+    if (l == 0) addReturn(scan, 10.0 * kDeg, azimuth, 8.0);
+    addGroundReturns(scan, azimuth);
   }
   SensorGeometry sensor = turntableOf(180);  // 2 deg between lines
   Eigen::Isometry3d map_from_scanner = Eigen::Isometry3d::Identity();
