@@ -70,7 +70,12 @@ int runSegment(const std::vector<std::string>& words) {
       std::cout << "goal: " << (result.goal->reachable ? "reachable" : "NOT reachable")
                 << (estimated ? " (if the estimated up direction is right)" : "")
                 << (result.goal->reachable
-                        ? ", path " + std::to_string(result.goal->length_m) + " m"
+                        ? ", path " + std::to_string(result.goal->length_m) + " m" +
+                              (result.goal->unvouched_m > 0.0
+                                   ? ", " + std::to_string(result.goal->unvouched_m) +
+                                         " m of it over ground not vouched for (too sparse, or "
+                                         "not seen up to the robot's height): drive it with care"
+                                   : "")
                         : ": " + result.goal->reason)
                 << "\n";
     std::cout << "timing [ms]:";

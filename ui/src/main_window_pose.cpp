@@ -199,6 +199,10 @@ void MainWindow::planGoal() {
                  ? tr("Can it get there? Yes, reachable: a path of %1 m from where it stands.")
                        .arg(goal.length_m, 0, 'f', 1)
                  : tr("Can it get there? No: %1").arg(QString::fromStdString(goal.reason));
+    if (goal.reachable && goal.unvouched_m > 0.0)
+      answer += tr(" %1 m of it run over ground not vouched for (too sparse, or not seen up to "
+                   "the robot's height): drive it with care.")
+                    .arg(goal.unvouched_m, 0, 'f', 1);
   }
   d_->map->setPath(path);
   d_->map->setGoal(result ? d_->goal : std::nullopt, reachable);

@@ -119,6 +119,7 @@ std::string reportJson(const PipelineResult& result, const SegmentationParams& p
     if (!result.goal->reason.empty()) goal["reason"] = result.goal->reason;
     goal["path"] = path;
     goal["length_m"] = result.goal->length_m;
+    goal["unvouched_m"] = result.goal->unvouched_m;
     report["goal"] = goal;
   }
   nlohmann::ordered_json cells;

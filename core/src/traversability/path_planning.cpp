@@ -313,7 +313,13 @@ GoalResult planPath(const TraversabilityMap& map, double goal_x, double goal_y) 
       if (before != cell) {
         const int dc = column - int(before % std::size_t(grid.width));
         const int dr = row - int(before / std::size_t(grid.width));
-        result.length_m += grid.resolution * std::hypot(double(dc), double(dr));
+        const double step = grid.resolution * std::hypot(double(dc), double(dr));
+        result.length_m += step;
+        // (A map built by hand for a test may carry labels and fits but no reasons.)
+        const auto reason =
+            cell < map.reasons.size() ? CellReason(map.reasons[cell]) : CellReason::kNone;
+        if (reason == CellReason::kSparse || reason == CellReason::kAboveView)
+          result.unvouched_m += step;
         cells_since_kept += std::max(std::abs(dc), std::abs(dr));
       }
     }

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <numbers>
 #include <string>
@@ -15,6 +16,7 @@
 #include "clearway/eval/evaluation.h"
 #include "clearway/pipeline.h"
 #include "clearway/sim/builtin_scenes.h"
+#include "clearway/traversability/reachability.h"
 #include "engine_fixtures.h"
 
 namespace clearway {
@@ -71,6 +73,34 @@ TEST(AboveTheView, ARobotLowerThanTheScannerIsSeenAsFarAsItsBeamsPassOverIt) {
       if (map.reasons[map.grid.index(column, row)] == std::uint8_t(CellReason::kAboveView))
         nearest = std::min(nearest, (map.grid.centre(column, row) - scanner).norm());
   EXPECT_GT(nearest, 12.0);
+}
+
+// "Can it get there?" from the robot's place to the far side of the pipe bridge (world 6.5, 0).
+GoalResult goalBeyondThePipe(const test::SimulatedRun& run) {
+  const Eigen::Isometry3d map_from_world =
+      run.result.analysis->map_from_scanner *
+      run.simulated.truth.placement.worldFromScanner().inverse();
+  const Eigen::Vector3d goal = map_from_world * Eigen::Vector3d(6.5, 0.0, 0.0);
+  return planPath(run.result.map, goal.x(), goal.y());
+}
+
+TEST(AboveTheView, APathUnderWhatTheScannerCouldNotSeeSaysSo) {
+  // The 1.5 m robot's way under the pipe bridge the scanner never looked at: drivable only with
+  // care, and the answer says how much of it.
+  const test::SimulatedRun tall = outdoorSeenWithTheAxisDown(SegmentationParams{});
+  const GoalResult under = goalBeyondThePipe(tall);
+  ASSERT_TRUE(under.reachable) << under.reason;
+  EXPECT_GT(under.length_m, 5.0);
+  EXPECT_GT(under.unvouched_m, 0.8 * under.length_m);
+  // A robot lower than the scanner is seen whole on the way there.
+  SegmentationParams low;
+  low.robot.height = 1.0;
+  const GoalResult seen = goalBeyondThePipe(outdoorSeenWithTheAxisDown(low));
+  ASSERT_TRUE(seen.reachable) << seen.reason;
+  EXPECT_LT(seen.unvouched_m, 0.2 * seen.length_m);
+  std::cout << "[ figures  ] path " << under.length_m << " m, " << under.unvouched_m
+            << " m unvouched (1.5 m robot); " << seen.length_m << " m, " << seen.unvouched_m
+            << " m (1.0 m robot)\n";
 }
 
 // Appends a return `polar` from the (vertical) axis, `azimuth` about it, `range` away to the scan

@@ -85,6 +85,9 @@ struct GoalResult {
   std::string reason;          // why not, when not
   std::vector<PathPose> path;  // from the robot's pose to the goal, when reachable
   double length_m = 0.0;       // driven length (turns on the spot add none)
+  // Of length_m, the metres over ground the map does not vouch for (orange, reason "too sparse"
+  // or "not seen up to the robot's height"): the path is drivable only with care there.
+  double unvouched_m = 0.0;
   // What the search minimised: metres of green driving (orange counts 3 times its length, each
   // turn step as 0.05 m of driving).
   double cost = 0.0;
