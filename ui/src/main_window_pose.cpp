@@ -200,8 +200,8 @@ void MainWindow::planGoal() {
                        .arg(goal.length_m, 0, 'f', 1)
                  : tr("Can it get there? No: %1").arg(QString::fromStdString(goal.reason));
     if (goal.reachable && goal.unvouched_m > 0.0)
-      answer += tr(" %1 m of it run over ground not vouched for (too sparse, or not seen up to "
-                   "the robot's height): drive it with care.")
+      answer += tr(" %1 m of it over ground not vouched for (sparse, or unseen up to its height): "
+                   "drive with care.")
                     .arg(goal.unvouched_m, 0, 'f', 1);
   }
   d_->map->setPath(path);
