@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <opencv2/imgproc.hpp>
 
 namespace clearway::detail {
 
@@ -39,32 +40,23 @@ std::vector<std::uint8_t> cellsAboveTheView(const ScanAnalysis& analysis,
 
 std::vector<std::uint8_t> sparseOnlyAboveTheView(const CellClasses& classes, const MapGrid& grid,
                                                  int radius) {
-  // Running sums over the grid (one row and column of zeros first) of the two kinds of sparse cell.
-  const std::size_t stride = std::size_t(grid.width) + 1;
-  std::vector<std::uint32_t> above((std::size_t(grid.height) + 1) * stride, 0);
-  std::vector<std::uint32_t> other(above.size(), 0);
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      const std::size_t at = std::size_t(row + 1) * stride + std::size_t(column + 1);
-      const std::uint32_t is_above = classes.above_view[cell];
-      const std::uint32_t is_other = classes.sparse[cell] && !classes.above_view[cell];
-      above[at] = is_above + above[at - 1] + above[at - stride] - above[at - stride - 1];
-      other[at] = is_other + other[at - 1] + other[at - stride] - other[at - stride - 1];
-    }
-  auto count = [&](const std::vector<std::uint32_t>& sums, int c0, int r0, int c1, int r1) {
-    // Cells c0..c1 x r0..r1, inclusive.
-    const auto at = [&](int c, int r) { return sums[std::size_t(r) * stride + std::size_t(c)]; };
-    return at(c1 + 1, r1 + 1) - at(c0, r1 + 1) - at(c1 + 1, r0) + at(c0, r0);
-  };
   std::vector<std::uint8_t> only(grid.cells(), 0);
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const int c0 = std::max(0, column - radius), c1 = std::min(grid.width - 1, column + radius);
-      const int r0 = std::max(0, row - radius), r1 = std::min(grid.height - 1, row + radius);
-      only[grid.index(column, row)] =
-          count(above, c0, r0, c1, r1) > 0 && count(other, c0, r0, c1, r1) == 0;
-    }
+  if (grid.cells() == 0) return only;
+  // Each kind of sparse cell grown by the square, as cellsNearSparse() grows them.
+  const cv::Mat square =
+      cv::getStructuringElement(cv::MORPH_RECT, cv::Size(2 * radius + 1, 2 * radius + 1));
+  auto near = [&](auto is_kind) {
+    cv::Mat kind(grid.height, grid.width, CV_8UC1), grown;
+    for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+      kind.data[cell] = is_kind(cell) ? 1 : 0;
+    cv::dilate(kind, grown, square, cv::Point(-1, -1), 1, cv::BORDER_CONSTANT, cv::Scalar(0));
+    return grown;
+  };
+  const cv::Mat above = near([&](std::size_t cell) { return classes.above_view[cell] != 0; });
+  const cv::Mat other = near(
+      [&](std::size_t cell) { return classes.sparse[cell] != 0 && classes.above_view[cell] == 0; });
+  for (std::size_t cell = 0; cell < grid.cells(); ++cell)
+    only[cell] = above.data[cell] && !other.data[cell];
   return only;
 }
 
