@@ -39,7 +39,9 @@ bool drawnAsGround(CellLabel label) {
 }
 
 // The drivable ground: the mesh's triangles at least two of whose corners lie on cells the robot
-// may use, with the vertices they use.
+// may use, with the vertices they use (numbered as the triangles first use them). Counted before
+// they are stored: a dense scan draws millions, and buffers grown by doubling would hold up to
+// twice that at the run's memory peak.
 void addGround(const Scan& scan, const ScanAnalysis& analysis, const TraversabilityMap& map,
                SceneGeometry& scene) {
   const GroundMesh& mesh = analysis.inputs.ground_mesh;
@@ -47,24 +49,35 @@ void addGround(const Scan& scan, const ScanAnalysis& analysis, const Traversabil
   for (std::size_t v = 0; v < mesh.points.size(); ++v)
     vertex_label[v] = mesh.cells[v] == GroundMesh::kOutsideGrid ? std::uint8_t(CellLabel::kUnknown)
                                                                 : map.labels[mesh.cells[v]];
+  auto drawn = [&](const std::array<std::uint32_t, 3>& triangle) {
+    int corners = 0;
+    for (const std::uint32_t v : triangle)
+      corners += int(drawnAsGround(CellLabel(vertex_label[v])));
+    return corners >= kMinDrawnCorners;
+  };
   constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
   std::vector<std::uint32_t> drawn_vertex(mesh.points.size(), kNone);
-  auto vertex = [&](std::uint32_t v) {
-    if (drawn_vertex[v] == kNone) {
-      drawn_vertex[v] = std::uint32_t(scene.vertices.size());
-      const Point3f& p = scan.points[mesh.points[v]];
-      scene.vertices.emplace_back(p.x, p.y, p.z);
-      scene.vertex_labels.push_back(CellLabel(vertex_label[v]));
-    }
-    return drawn_vertex[v];
-  };
+  std::uint32_t vertices = 0;
+  std::size_t triangles = 0;
   for (const auto& triangle : mesh.triangles) {
-    const int drawn = int(drawnAsGround(CellLabel(vertex_label[triangle[0]]))) +
-                      int(drawnAsGround(CellLabel(vertex_label[triangle[1]]))) +
-                      int(drawnAsGround(CellLabel(vertex_label[triangle[2]])));
-    if (drawn < kMinDrawnCorners) continue;
-    scene.triangles.push_back({vertex(triangle[0]), vertex(triangle[1]), vertex(triangle[2])});
+    if (!drawn(triangle)) continue;
+    ++triangles;
+    for (const std::uint32_t v : triangle)
+      if (drawn_vertex[v] == kNone) drawn_vertex[v] = vertices++;
   }
+  scene.vertices.resize(vertices);
+  scene.vertex_labels.resize(vertices);
+  for (std::size_t v = 0; v < mesh.points.size(); ++v) {
+    if (drawn_vertex[v] == kNone) continue;
+    const Point3f& p = scan.points[mesh.points[v]];
+    scene.vertices[drawn_vertex[v]] = Eigen::Vector3f(p.x, p.y, p.z);
+    scene.vertex_labels[drawn_vertex[v]] = CellLabel(vertex_label[v]);
+  }
+  scene.triangles.reserve(triangles);
+  for (const auto& triangle : mesh.triangles)
+    if (drawn(triangle))
+      scene.triangles.push_back(
+          {drawn_vertex[triangle[0]], drawn_vertex[triangle[1]], drawn_vertex[triangle[2]]});
 }
 
 // Walls: upright boxes in the map frame (returned in the scanner's), one per run of a wall's

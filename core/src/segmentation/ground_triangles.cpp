@@ -212,6 +212,13 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   detail::parallelChunks(
       pairs, threads,
       [&](std::size_t begin, std::size_t end, std::size_t chunk) {
+        // Room for the most a part can make, two triangles per quad of its lines: a dense scan's
+        // parts grown by doubling held up to twice their triangles at the run's memory peak. The
+        // room never filled is never touched, so it costs address space, not memory.
+        std::size_t most = 0;
+        for (std::size_t l = begin; l < end; ++l)
+          most += 2 * pairing.before(l).count;
+        parts[chunk].reserve(most);
         std::vector<std::size_t> partners;
         for (std::size_t l = begin; l < end; ++l) {
           const ScanLine& a = pairing.before(l);
@@ -256,6 +263,7 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   if (bridged)
     for (const auto& part : bridged_parts)
       bridged->insert(bridged->end(), part.begin(), part.end());
+  if (parts.size() == 1) return std::move(parts.front());
   std::size_t total = 0;
   for (const auto& part : parts)
     total += part.size();

@@ -202,6 +202,10 @@ GroundMesh meshOf(std::vector<std::array<std::uint32_t, 3>> triangles,
             std::atomic_ref<std::uint32_t>(vertex_of[point]).store(1, std::memory_order_relaxed);
       });
   GroundMesh mesh;
+  const std::size_t vertices =
+      vertex_of.size() - std::size_t(std::count(vertex_of.begin(), vertex_of.end(), 0U));
+  mesh.points.reserve(vertices);
+  mesh.cells.reserve(vertices);
   for (std::size_t point = 0; point < vertex_of.size(); ++point) {
     if (!vertex_of[point]) continue;
     vertex_of[point] = std::uint32_t(mesh.points.size());
