@@ -607,10 +607,17 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   // holes; the first to mark a cell sets its height.
   markGroundPointCells(inputs, ground_of, mapped.positions, cell_of);
   // The points measureObstacles will keep, whose partners across the sweep are wanted.
+  auto obstacle = [&](std::size_t i) {
+    return scan.isValid(i) && ground_of[i] < 0 &&
+           inputs.grid.inside(cell_of[i].x(), cell_of[i].y());
+  };
   std::vector<std::uint32_t> obstacle_points;
+  std::size_t obstacles = 0;  // counted first: half a dense scan's points, not grown by doubling
   for (std::size_t i = 0; i < scan.size(); ++i)
-    if (scan.isValid(i) && ground_of[i] < 0 && inputs.grid.inside(cell_of[i].x(), cell_of[i].y()))
-      obstacle_points.push_back(std::uint32_t(i));
+    obstacles += std::size_t(obstacle(i));
+  obstacle_points.reserve(obstacles);
+  for (std::size_t i = 0; i < scan.size(); ++i)
+    if (obstacle(i)) obstacle_points.push_back(std::uint32_t(i));
   detail::SweepPartners partners(std::move(obstacle_points), scan.size());
   std::vector<detail::BridgedTriangle> bridged;
   inputs.ground_mesh =
