@@ -108,6 +108,13 @@ CellLabel labelAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world) {
   return run.result.map.label(cell.x(), cell.y());
 }
 
+CellReason reasonAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world) {
+  const Eigen::Vector2i cell = cellOfWorld(run, world);
+  const MapGrid& grid = run.result.map.grid;
+  if (!grid.inside(cell.x(), cell.y())) return CellReason::kNone;
+  return CellReason(run.result.map.reasons[grid.index(cell.x(), cell.y())]);
+}
+
 bool connectedInMap(const SimulatedRun& run, const Eigen::Vector3d& from,
                     const Eigen::Vector3d& to) {
   const TraversabilityMap& map = run.result.map;

@@ -49,6 +49,8 @@ eval::Evaluation evaluateRun(const SimulatedRun& run, const SegmentationParams& 
 
 // The map label under a world position of a simulated run (kUnknown outside the map).
 CellLabel labelAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world);
+// Its reason (kNone outside the map).
+CellReason reasonAtWorld(const SimulatedRun& run, const Eigen::Vector3d& world);
 
 // The scan with its lines in reverse order, each line's returns as they were (a multi-beam frame
 // stored bottom up instead of top down); intensities follow their points.

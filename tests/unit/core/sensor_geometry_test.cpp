@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "clearway/scan.h"
@@ -102,6 +104,41 @@ TEST(SensorGeometry, HiddenObstacleAboutAnAxisAlongZIsTheVerticalFansOne) {
                 hiddenObstacleSize(rosi, ground, up, kHeight), 1e-9)
         << at.transpose();
   }
+}
+
+// A RoSi whose turntable axis points forward, level, 1.2 m up (the built-in scenes' placement):
+// its lines turn about the forward axis, 3.6 deg apart (100 lines). Straight ahead and below, the
+// next line's sample lies beside this one on the ground, 1.2 m x 3.6 deg away, as for an upright
+// axis. 3 m to the side, the lines lie one above the other: the next line's beam passes 0.2 m
+// over this line's sample (the distance from the axis x 3.6 deg), so an obstacle 0.2 m high can
+// stand there unseen. It counts as an obstacle twice that wide, as a fan's own step does; counted
+// sideways, 0.2 m, a 0.13 m box beside such a scanner was driven over (a helper's clutter scene).
+TEST(SensorGeometry, HiddenObstacleBesideAForwardTurntableIsWhereItsLinesLieOneAboveTheOther) {
+  SensorGeometry rosi;
+  rosi.kind = SensorKind::kRotating2D;
+  rosi.along_line_step = 0.5 * kDeg;
+  rosi.between_line_step = 3.6 * kDeg;
+  // The scanner's frame: z the turntable axis (forward), x up, y to the side.
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitX();
+  constexpr double kHeight = 1.2;
+  const Eigen::Vector3d ahead(-kHeight, 0.0, 4.0), beside(-kHeight, 3.0, 4.0);
+  EXPECT_NEAR(hiddenObstacleSize(rosi, ahead, up, kHeight), kHeight * 3.6 * kDeg, 1e-3);
+  // The neighbouring line's beam above the sample beside (turned about the axis by its step the
+  // way that lifts it), followed to where it passes closest over the sample.
+  const Eigen::Vector3d next =
+      Eigen::AngleAxisd(-3.6 * kDeg, Eigen::Vector3d::UnitZ()) * beside.normalized();
+  double clearance = 0.0, nearest = std::numeric_limits<double>::infinity();
+  for (double t = 0.5 * beside.norm(); t <= 1.5 * beside.norm(); t += 1e-4) {
+    const Eigen::Vector3d at = t * next;
+    const double apart = (at - beside - (at - beside).dot(up) * up).norm();
+    if (apart < nearest) nearest = apart, clearance = (at - beside).dot(up);
+  }
+  EXPECT_NEAR(clearance, 0.2, 0.01);
+  EXPECT_NEAR(hiddenObstacleSize(rosi, beside, up, kHeight), 2.0 * clearance, 0.02);
+  // With the axis upright the same turn moves the sample sideways only: as before.
+  const Eigen::Vector3d upright_beside(3.0, 4.0, -kHeight);
+  EXPECT_NEAR(hiddenObstacleSize(rosi, upright_beside, Eigen::Vector3d::UnitZ(), kHeight),
+              5.0 * 3.6 * kDeg, 1e-9);
 }
 
 // A nodding scanner 0.5 m up, its fans about the sideways axis 0.2 deg apart, 1 deg between the

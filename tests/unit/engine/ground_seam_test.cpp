@@ -95,7 +95,9 @@ TEST(GroundSeam, AKerbSeenFaceOnIsNotSplitByTheUpperLevelsBand) {
   const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement);
   ASSERT_TRUE(run.result.trusted()) << run.result.reason;
   const eval::Evaluation e = test::evaluateRun(run);
-  EXPECT_GT(e.map.traversable_cells, 5000U);
+  // (Green and careful cells only: the floor to the sides, where the forward turntable's lines lie
+  // one above the other too far apart to vouch for it, is orange, "too sparse".)
+  EXPECT_GT(e.map.traversable_cells, 2000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
   EXPECT_FALSE(test::connectedInMap(run, {8.5, 0.0, 0.0}, {12.0, 0.0, 0.15}));
 }
@@ -103,7 +105,8 @@ TEST(GroundSeam, AKerbSeenFaceOnIsNotSplitByTheUpperLevelsBand) {
 // The outdoor scene's paving slabs meet at x = 4 m with a step that grows along the joint (the
 // third slab is rolled 2 deg): about 0.05 m down near y = -2 m, 0.05 m up near y = 1 m, 0.13 m up
 // near y = 3.5 m. A view of it and a robot, as a randomised sweep drew them (scripts/variant-sweep
-// draws the same way).
+// draws the same way). The green and careful cells counted leave out the floor to the sides, where
+// the forward turntable's lines lie one above the other too far apart to vouch for it (orange).
 struct SlabJointView {
   int lines;
   std::uint32_t seed;
@@ -144,7 +147,7 @@ TEST(GroundSeam, AStepBetweenTwoScanLinesKeepsTheBoxOffItsEdge) {
   // the face's returns and looked like floor: the robot's box, 0.6 m wide, stood 7 cm onto the
   // upper slab (4 false cells; scripts/variant-sweep).
   const eval::Evaluation e = slabJoint({120, 3, 0.005, true, 35.0, 20.0, 0.6, 1.2, 0.1});
-  EXPECT_GT(e.map.traversable_cells, 10000U);
+  EXPECT_GT(e.map.traversable_cells, 4000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
@@ -154,7 +157,7 @@ TEST(GroundSeam, AStepTheTrianglesSpreadIsStillAStepForTheRobot) {
   // over two or three cells, none of which differed from the next by the step: the box stood
   // across it (3 false cells).
   const eval::Evaluation e = slabJoint({350, 409, 0.015, false, 14.91, 11.27, 0.739, 1.35, 0.05});
-  EXPECT_GT(e.map.traversable_cells, 10000U);
+  EXPECT_GT(e.map.traversable_cells, 5000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
@@ -167,8 +170,8 @@ TEST(GroundSeam, ASlabJointJustHigherThanTheStepIsNotCrossed) {
   const eval::Evaluation e =
       slabJoint({154, 2, 0.0034, false, 21.34, 0.0, 0.928, 0.926, 0.14}, {{0.81, 0.919, 1.2}});
   // (Without the floor beside the scanner, where the band up to the robot's height was above its
-  // view: docs/ALGORITHM.md, "Above the scanner's view".)
-  EXPECT_GT(e.map.traversable_cells, 8000U);
+  // view: docs/ALGORITHM.md, "Above the scanner's view"; nor the floor to the sides, too sparse.)
+  EXPECT_GT(e.map.traversable_cells, 5000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
@@ -178,7 +181,7 @@ TEST(GroundSeam, ADropInItsOwnShadowIsAStepForTheRobot) {
   // return beyond, 0.3-0.7 m, a gentle slope on the map. For a robot whose step is 0.05 m the box
   // stood across the drop (81 false cells).
   const eval::Evaluation e = slabJoint({423, 821, 0.0, false, -13.82, 7.63, 0.826, 1.035, 0.05});
-  EXPECT_GT(e.map.traversable_cells, 10000U);
+  EXPECT_GT(e.map.traversable_cells, 6000U);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
 }
 
