@@ -543,7 +543,7 @@ SweepNeighbours sweepNeighbours(const Scan& scan, const detail::SweepPartners& p
             const Eigen::Vector3f pass = scanner + beam * (range / length);
             neighbours.of_obstacle[obstacle][side] =
                 SweepNeighbours::kBeam | std::uint32_t(beams[chunk].size());
-            beams[chunk].push_back({pass.x(), pass.y(), length - range});
+            beams[chunk].push_back({pass.x(), pass.y(), pass.z(), length - range});
           }
         }
       });

@@ -239,8 +239,9 @@ constexpr double kPassedBy = 0.05;
 // top the other line hit; or the same obstacle, seen again by the next line) or went on past a
 // wedge wider than the density check lets an obstacle hide in (`widest`).
 void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, double widest,
-                     const std::vector<std::uint8_t>& blocking, const std::vector<CellState>& state,
-                     std::vector<std::uint8_t>& sparse, int threads) {
+                     double step, double top, const std::vector<std::uint8_t>& blocking,
+                     const std::vector<CellState>& state, std::vector<std::uint8_t>& sparse,
+                     int threads) {
   const SweepNeighbours& neighbours = inputs.sweep_neighbours;
   if (neighbours.of_obstacle.size() != inputs.obstacles.size()) return;
   const MapGrid& grid = inputs.grid;
@@ -249,18 +250,20 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
   detail::parallelChunks(
       inputs.obstacles.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t) {
         for (std::size_t i = begin; i < end; ++i) {
-          if (blocking[i] != kBlocks) continue;
+          if (blocking[i] == kOwnBody) continue;
+          const bool blocks = blocking[i] == kBlocks;
           const MapObstacle& o = inputs.obstacles[i];
           const Eigen::Vector3d at_obstacle(o.x, o.y, o.z);
           const double range = (at_obstacle - scanner).norm();
           for (const std::uint32_t neighbour : neighbours.of_obstacle[i]) {
             if (neighbour == SweepNeighbours::kNone) continue;
             Eigen::Vector2d pass;
-            double beyond = 0.0;
+            double pass_z = 0.0, beyond = 0.0;
             if (neighbour & SweepNeighbours::kBeam) {
               const SweepNeighbours::Beam& beam =
                   neighbours.beams[neighbour & ~SweepNeighbours::kBeam];
               pass = {beam.x, beam.y};
+              pass_z = beam.z;
               beyond = beam.beyond;
             } else {
               // The robot's own body hides what lies beyond it. A neighbour that blocks too says
@@ -273,14 +276,30 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
               const Eigen::Vector3d beam = Eigen::Vector3d(n.x, n.y, n.z) - scanner;
               const double length = beam.norm();
               if (!(length > 0.0)) continue;
-              pass = (scanner + beam * (range / length)).head<2>();
+              const Eigen::Vector3d at_range = scanner + beam * (range / length);
+              pass = at_range.head<2>();
+              pass_z = at_range.z();
               beyond = length - range;
             }
             const Eigen::Vector2d from(o.x, o.y);
             const double chord = (pass - from).norm();
-            if (beyond > kPassedBy && chord <= widest) continue;
+            if (blocks && beyond > kPassedBy && chord <= widest) continue;
+            if (!blocks) {
+              // A point the robot passes over or under, whose neighbour across the sweep passed
+              // beside it (or hit the same obstacle) at another height: the obstacle may run on
+              // between the two, from its own height to the neighbour's, and where that span
+              // reaches into the robot's band it may block there. With the turntable's axis tilted
+              // the lines lie one above the other: a 0.13 m box seen only along its low side face,
+              // 4-8 cm up, its top between that line and the next one 15 cm higher, was driven
+              // over (a helper's clutter scene, 100 lines tilted 15 deg).
+              if ((neighbour & SweepNeighbours::kBeam) && !(beyond > kPassedBy)) continue;
+              const double neighbour_height = o.height + (pass_z - o.z);
+              if (!(std::min(double(o.height), neighbour_height) < top &&
+                    std::max(double(o.height), neighbour_height) > step))
+                continue;
+            }
             const int steps = int(std::ceil(chord / stride));
-            for (int k = 1; k < steps; ++k) {
+            for (int k = blocks ? 1 : 0; k < steps; ++k) {
               const Eigen::Vector2d at = from + (pass - from) * (double(k) / steps);
               const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
               if (!grid.inside(c.x(), c.y())) continue;
@@ -592,7 +611,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
     blocking[i] = own_body[i] ? kOwnBody : (blocks(i) ? kBlocks : 0);
   markSweepWedges(inputs, analysis.map_from_scanner.translation(), kSpacingPerStep * robot.max_step,
-                  blocking, classes.state, classes.sparse, threads);
+                  step, top, blocking, classes.state, classes.sparse, threads);
 
   // Blocking points in CSR layout for the exact narrow-passage check.
   classes.point_start.assign(cells + 1, 0);

@@ -76,13 +76,19 @@ class HandBuiltMap {
     return *this;
   }
 
-  // The last point's neighbouring scan line across the sweep: its beam was at map (x, y) at the
-  // point's range and went on `beyond` metres farther (SweepNeighbours). Nothing between was seen.
-  HandBuiltMap& sweptPast(double x, double y, double beyond) {
+  // The last point's neighbouring scan line across the sweep: its beam was at map (x, y),
+  // `height` above the local ground there, at the point's range and went on `beyond` metres
+  // farther (SweepNeighbours). Nothing between was seen.
+  HandBuiltMap& sweptPast(double x, double y, double height, double beyond) {
+    const MapGrid& grid = analysis_.inputs.grid;
+    const Eigen::Vector2i cell = grid.cellOf(x, y);
+    const double ground = grid.inside(cell.x(), cell.y())
+                              ? analysis_.inputs.ground_height[grid.index(cell.x(), cell.y())]
+                              : 0.0;
     SweepNeighbours& neighbours = analysis_.inputs.sweep_neighbours;
     neighbours.of_obstacle.back()[1] =
         SweepNeighbours::kBeam | std::uint32_t(neighbours.beams.size());
-    neighbours.beams.push_back({float(x), float(y), float(beyond)});
+    neighbours.beams.push_back({float(x), float(y), float(ground + height), float(beyond)});
     return *this;
   }
 

@@ -62,8 +62,8 @@ struct SweepNeighbours {
   // Set on an entry that indexes `beams` (the neighbour is ground, or off the grid).
   static constexpr std::uint32_t kBeam = 0x80000000U;
   struct Beam {
-    float x = 0.0F, y = 0.0F;  // map position at the obstacle's range [m]
-    float beyond = 0.0F;       // its return's range less the obstacle's [m]
+    float x = 0.0F, y = 0.0F, z = 0.0F;  // map position at the obstacle's range [m]
+    float beyond = 0.0F;                 // its return's range less the obstacle's [m]
   };
   std::vector<std::array<std::uint32_t, 2>> of_obstacle;  // index into obstacles, kBeam | i, kNone
   std::vector<Beam> beams;
