@@ -5,6 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <numbers>
+
 #include "clearway/eval/evaluation.h"
 #include "clearway/pipeline.h"
 #include "engine_fixtures.h"
@@ -83,6 +86,37 @@ TEST(ObstacleFace, AtOtherWidthsAndDensitiesToo) {
     expectNoneInFrontOfTheFace(evaluateRun(lowBoxScene(0.11, 3.0, -1.5), 150, 4, width), -1.5);
   }
   expectNoneInFrontOfTheFace(evaluateRun(lowBoxScene(0.2, 3.0, -1.5), 90, 3, 0.85), -1.5);
+}
+
+// A box 0.13 m tall beside the scanner (yawed 51 deg, 3.8 m away to the left ahead), scanned at 100
+// lines with the forward turntable tilted 15 deg: there the lines lie one above the other, and one
+// line met only the box's side face at a grazing angle, 4-8 cm up, under the step; its top lies
+// between that line and the next, whose beam passed 15 cm over it. Counted sideways, the lines
+// were 0.19 m apart there and the floor around was vouched for: 64 cells green or careful with
+// the robot over the box (docs/ALGORITHM.md, "Sparse scans never lie").
+TEST(ObstacleFace, ABoxWhoseTopLiesBetweenLinesOneAboveTheOtherIsNotDrivenOver) {
+  sim::Scene scene;
+  scene.name = "box-beside";
+  scene.primitives = {box("floor", PointClass::kGround, {4, 0, -0.05}, {14, 10, 0.1}),
+                      box("box", PointClass::kObstacle, {2.78, 2.57, 0.064}, {0.17, 0.36, 0.128})};
+  scene.primitives.back().yaw_deg = 50.9;
+  sim::SensorModel sensor;
+  sensor.lines = 100;
+  sim::ScannerPlacement placement;
+  placement.position = {0.0, 0.0, 1.2};
+  placement.axis = Eigen::AngleAxisd(15.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitX()) *
+                   Eigen::Vector3d(1.0, 0.0, -0.3).normalized();
+  const sim::SimulatedScan simulated = sim::simulateRosi(scene, sensor, placement);
+  const PipelineResult run = runPipeline(simulated.scan, SegmentationParams{});
+  ASSERT_TRUE(run.trusted()) << run.reason;
+  eval::SegmentationResult result;
+  const RobotParams robot;
+  result.robot = {robot.width, robot.length, robot.height, robot.max_step};
+  result.map = eval::resultMapOf(run.map.grid, run.map.labels, run.analysis->map_from_scanner);
+  result.has_map = true;
+  const eval::Evaluation e = eval::evaluate(simulated.truth, result);
+  EXPECT_EQ(e.map.false_traversable_cells, 0u);
+  EXPECT_GT(e.map.traversable_cells, 3000u);  // the floor ahead stays green
 }
 
 }  // namespace
