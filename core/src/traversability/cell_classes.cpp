@@ -19,6 +19,10 @@ void markFromAnyThread(std::uint8_t& flag) {
 
 // An overhang is "too low" when the lowest thing in the way is above this share of the robot.
 constexpr double kOverhangShare = 0.5;
+// A cell whose lowest blocking point stands this many steps above the ground holds something the
+// floor's beams pass under (a shelf, a table top, a pipe): it casts a shadow over ground that was
+// seen (hiddenCells), whatever the robot's height.
+constexpr double kOffTheGroundSteps = 2.0;
 
 // Headroom the robot keeps under an overhang [m]: a return this little above its height still
 // blocks. The ground under the robot and the overhang are each measured to a few centimetres, and
@@ -590,13 +594,16 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   // Free ground whose samples are too far apart to vouch for it, or that lies in the shadow of a
   // blocking point.
   classes.sparse = sparseCells(inputs, classes.state, robot, params);
-  // Only overhangs cast such shadows (cells whose lowest blocking point is "too low" for the robot
-  // to pass under, kOverhangShare): behind a thing standing on the ground no ground is seen while
-  // its beams' continuations are in the band, and the cells along the edge of its shadow (a door
-  // jamb's, seen through the door) would only be caught by the walk's discretisation.
+  // Only what stands off the ground casts such shadows (cells whose lowest blocking point is
+  // kOffTheGroundSteps above it: a shelf, a table top, a pipe): behind a thing standing on the
+  // ground no ground is seen while its beams' continuations are in the band, and the cells along
+  // the edge of its shadow (a door jamb's, seen through the door) would only be caught by the
+  // walk's discretisation. Counting only what is too low to pass under (kOverhangShare) left a
+  // shelf 0.6 m up, its end 0.2 m beyond its last samples, for the robot's box to stand under.
   std::vector<MapObstacle> overhanging;
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
-    if (blocks(i) && classes.reason[inputs.obstacles[i].cell] == CellReason::kTooLow)
+    if (blocks(i) && classes.reason[inputs.obstacles[i].cell] != CellReason::kTooSteep &&
+        lowest_block[inputs.obstacles[i].cell] > kOffTheGroundSteps * robot.max_step)
       overhanging.push_back(inputs.obstacles[i]);
   const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging, threads);
   for (std::size_t cell = 0; cell < cells; ++cell)
