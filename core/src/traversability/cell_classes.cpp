@@ -241,7 +241,9 @@ constexpr double kPassedBy = 0.05;
 // neighbouring line's beam was at its range, up to (not including) that place, when that beam
 // either ended there (what lies beyond its return is its shadow: the low face of a pallet whose
 // top the other line hit; or the same obstacle, seen again by the next line) or went on past a
-// wedge wider than the density check lets an obstacle hide in (`widest`).
+// wedge wider than the density check lets an obstacle hide in (`widest`). From a point the robot
+// drives over or under (lower than `step`, or above `top`), from the point itself, where the span
+// from its height to the neighbouring beam's at its range reaches between the two.
 void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, double widest,
                      double step, double top, const std::vector<std::uint8_t>& blocking,
                      const std::vector<CellState>& state, std::vector<std::uint8_t>& sparse,
@@ -602,8 +604,10 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   // shelf 0.6 m up, its end 0.2 m beyond its last samples, for the robot's box to stand under.
   std::vector<MapObstacle> overhanging;
   for (std::size_t i = 0; i < inputs.obstacles.size(); ++i)
-    if (blocks(i) && classes.reason[inputs.obstacles[i].cell] != CellReason::kTooSteep &&
-        lowest_block[inputs.obstacles[i].cell] > kOffTheGroundSteps * robot.max_step)
+    if (const CellReason reason = classes.reason[inputs.obstacles[i].cell];
+        blocks(i) && (reason == CellReason::kTooLow ||
+                      (reason != CellReason::kTooSteep && lowest_block[inputs.obstacles[i].cell] >
+                                                              kOffTheGroundSteps * robot.max_step)))
       overhanging.push_back(inputs.obstacles[i]);
   const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging, threads);
   for (std::size_t cell = 0; cell < cells; ++cell)
