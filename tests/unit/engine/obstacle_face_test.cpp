@@ -1,7 +1,9 @@
-// A box just taller than the robot's step, seen from above: its top is sampled centimetres behind
-// its edge (a surface seen at a grazing angle), and its face's lower returns, under the step, are
-// where it begins. The robot's box must stop at the face, not at the first return on the top
-// (docs/ALGORITHM.md, "The face of an obstacle seen from above").
+// Obstacles seen only in part, whose edge lies beyond their samples: a box just taller than the
+// robot's step, seen from above, its top sampled centimetres behind its edge (a surface seen at a
+// grazing angle) and its face's lower returns, under the step, where it begins: the robot's box
+// must stop at the face, not at the first return on the top (docs/ALGORITHM.md, "The face of an
+// obstacle seen from above"); a box whose top lies between two lines one above the other; a
+// shelf whose end lies beyond its last samples (docs/ALGORITHM.md, "Sparse scans never lie").
 
 #include <gtest/gtest.h>
 
