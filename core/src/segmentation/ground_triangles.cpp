@@ -155,10 +155,10 @@ std::vector<std::array<std::uint32_t, 3>> groundTriangles(
   // The ground is uneven along the turn (a wall close by on one side, open floor on the other):
   // several parts per thread keep both threads busy to the end.
   constexpr std::size_t kPartsPerThread = 4;
-  std::vector<std::vector<std::array<std::uint32_t, 3>>> parts(
+  detail::PerPart<std::vector<std::array<std::uint32_t, 3>>> parts(
       detail::chunkCount(pairs, threads, kPartsPerThread));
   // The bridging triangles per part, as `parts`.
-  std::vector<std::vector<BridgedTriangle>> bridged_parts(bridged ? parts.size() : 0);
+  detail::PerPart<std::vector<BridgedTriangle>> bridged_parts(bridged ? parts.size() : 0);
   // Along ragged rings, how many of the sensor's steps apart the samples under a triangle of
   // `line` and `other` lie (1 to kLostReturnsBridged + 1), or 0 where it would bridge more lost
   // returns in a row: the widest gap between azimuth neighbours of either ring across the

@@ -285,7 +285,7 @@ void houghLine(const Scan& scan, std::uint32_t line_index, const LineParams& par
 std::vector<LineSegment> detectLineSegments(const Scan& scan, const LineParams& params, int threads,
                                             const ProgressCallback& progress) {
   const std::size_t lines = scan.lines.size();
-  std::vector<std::vector<LineSegment>> per_chunk(std::size_t(std::max(threads, 1)));
+  detail::PerPart<std::vector<LineSegment>> per_chunk(std::size_t(std::max(threads, 1)));
   std::atomic<bool> cancelled{false};
   std::atomic<std::size_t> done{0};
   detail::parallelChunks(lines, threads,

@@ -79,7 +79,7 @@ MappedPoints pointsInMapFrame(const Scan& scan, const Eigen::Isometry3d& map_fro
                               int threads) {
   MappedPoints mapped;
   mapped.positions.resize(scan.size());
-  std::vector<Eigen::AlignedBox2d> boxes(std::size_t(std::max(threads, 1)));
+  detail::PerPart<Eigen::AlignedBox2d> boxes(std::size_t(std::max(threads, 1)));
   detail::parallelChunks(scan.size(), threads,
                          [&](std::size_t begin, std::size_t end, std::size_t chunk) {
                            for (std::size_t i = begin; i < end; ++i) {
@@ -523,7 +523,7 @@ SweepNeighbours sweepNeighbours(const Scan& scan, const detail::SweepPartners& p
   const std::size_t obstacles = partners.points().size();
   if (partners.partners.size() != obstacles) return neighbours;
   neighbours.of_obstacle.assign(obstacles, {SweepNeighbours::kNone, SweepNeighbours::kNone});
-  std::vector<std::vector<SweepNeighbours::Beam>> beams(detail::chunkCount(obstacles, threads));
+  detail::PerPart<std::vector<SweepNeighbours::Beam>> beams(detail::chunkCount(obstacles, threads));
   detail::parallelChunks(
       obstacles, threads, [&](std::size_t begin, std::size_t end, std::size_t chunk) {
         for (std::size_t obstacle = begin; obstacle < end; ++obstacle) {

@@ -13,6 +13,45 @@
 
 namespace clearway::detail {
 
+// Cache lines are this long on the x86-64 and ARM cores Clearway runs on [bytes].
+inline constexpr std::size_t kCacheLine = 64;
+
+// One result per part of a parallel loop (parallelChunks' `chunk`), each on cache lines of its
+// own. Parts that keep writing their own result in one plain array (a vector's end as it grows, a
+// running bound) share a cache line and take it from each other at every write: the second
+// thread then slows both down. Bounds kept in plain arrays of doubles made a loop of 0.31 ms on
+// one thread take 1.1 ms on two.
+template <typename T>
+class PerPart {
+  struct alignas(kCacheLine) Slot {
+    T value{};
+  };
+  template <typename S, typename V>
+  struct Iterator {
+    S* slot;
+    V& operator*() const { return slot->value; }
+    Iterator& operator++() {
+      ++slot;
+      return *this;
+    }
+    bool operator==(const Iterator&) const = default;
+  };
+
+ public:
+  explicit PerPart(std::size_t parts, const T& initial = T{}) : slots_(parts, Slot{initial}) {}
+  std::size_t size() const { return slots_.size(); }
+  T& operator[](std::size_t part) { return slots_[part].value; }
+  const T& operator[](std::size_t part) const { return slots_[part].value; }
+  T& front() { return slots_.front().value; }
+  Iterator<Slot, T> begin() { return {slots_.data()}; }
+  Iterator<Slot, T> end() { return {slots_.data() + slots_.size()}; }
+  Iterator<const Slot, const T> begin() const { return {slots_.data()}; }
+  Iterator<const Slot, const T> end() const { return {slots_.data() + slots_.size()}; }
+
+ private:
+  std::vector<Slot> slots_;
+};
+
 // Runs every task, some on the pool's threads and the first on the caller's, and returns when all
 // have finished. Safe from several threads at once; a call made from a pool thread runs inline.
 void runTasks(std::vector<std::function<void()>>& tasks);

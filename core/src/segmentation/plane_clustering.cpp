@@ -153,7 +153,7 @@ std::vector<std::vector<std::uint32_t>> similarNeighbours(const std::vector<Line
   // (the region growing below reads the lists in order).
   using Pair = std::pair<std::uint32_t, std::uint32_t>;
   constexpr std::size_t kPartsPerThread = 4;  // rings are uneven: a car's side, open road
-  std::vector<std::vector<Pair>> pairs(
+  detail::PerPart<std::vector<Pair>> pairs(
       detail::chunkCount(segments.size(), threads, kPartsPerThread));
   detail::parallelChunks(
       segments.size(), threads,

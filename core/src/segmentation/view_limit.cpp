@@ -306,8 +306,7 @@ class LineBeams {
 // beyond range) it looked all the same, and its top ring's rise is its view in every sector and
 // at every reach.
 ViewLimit ringsView(const Scan& scan, const Eigen::Matrix3d& rotation, int threads) {
-  const std::size_t parts = chunkCount(scan.size(), threads);
-  std::vector<float> steepest(parts, kNoBeam);
+  PerPart<float> steepest(chunkCount(scan.size(), threads), kNoBeam);
   parallelChunks(scan.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
     for (std::size_t i = begin; i < end; ++i) {
       if (!scan.isValid(i)) continue;
@@ -317,9 +316,11 @@ ViewLimit ringsView(const Scan& scan, const Eigen::Matrix3d& rotation, int threa
         steepest[part] = std::max(steepest[part], float(direction.z() / horizontal));
     }
   });
+  float top = kNoBeam;
+  for (const float rise : steepest)
+    top = std::max(top, rise);
   ViewLimit view;
-  view.rise.assign(std::size_t(ViewLimit::kAzimuthSectors) * ViewLimit::kReachClasses,
-                   *std::max_element(steepest.begin(), steepest.end()));
+  view.rise.assign(std::size_t(ViewLimit::kAzimuthSectors) * ViewLimit::kReachClasses, top);
   return view;
 }
 
@@ -354,7 +355,7 @@ ViewLimit viewLimitOf(const Scan& scan, const SensorGeometry& sensor,
   const std::size_t parts = chunkCount(lines.size(), threads);
   // A turntable turns one fan: every line spans the same angles from the axis, from the least to
   // the greatest of all returns' (as cosines: the greatest cosine is the least angle).
-  std::vector<double> greatest_cosine(parts, -1.0), least_cosine(parts, 1.0);
+  PerPart<double> greatest_cosine(parts, -1.0), least_cosine(parts, 1.0);
   parallelChunks(lines.size(), threads, [&](std::size_t begin, std::size_t end, std::size_t part) {
     for (std::size_t k = begin; k < end; ++k) {
       const ScanLine& line = scan.lines[lines[k]];
@@ -366,9 +367,13 @@ ViewLimit viewLimitOf(const Scan& scan, const SensorGeometry& sensor,
         }
     }
   });
+  double greatest = -1.0, least = 1.0;
+  for (std::size_t part = 0; part < parts; ++part) {
+    greatest = std::max(greatest, greatest_cosine[part]);
+    least = std::min(least, least_cosine[part]);
+  }
   const FanAngles fan =
-      fanAngles(std::acos(*std::max_element(greatest_cosine.begin(), greatest_cosine.end())),
-                std::acos(*std::min_element(least_cosine.begin(), least_cosine.end())),
+      fanAngles(std::acos(greatest), std::acos(least),
                 sensor.along_line_step > 0.0 ? sensor.along_line_step : kDefaultFanStep);
   const std::vector<double> empty_line_azimuth = azimuthsOfEmptyLines(scan);
 
