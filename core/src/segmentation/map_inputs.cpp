@@ -573,6 +573,11 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   if (!analysis.ground_found) return inputs;
   const Eigen::Isometry3d& map_from_scanner = analysis.map_from_scanner;
   const double scanner_z = map_from_scanner.translation().z();
+  // How high the scanner looked needs nothing below: it is worked out on the other thread, where
+  // that thread would otherwise wait for this one's serial steps.
+  ViewLimit view;
+  detail::BackgroundTask view_search(
+      [&] { view = detail::viewLimitOf(scan, analysis.sensor, map_from_scanner, 1); }, threads);
 
   std::vector<std::int32_t> ground_of = groundOfPoints(scan, analysis);
   const MappedPoints mapped =
@@ -642,7 +647,8 @@ MapInputs prepareMapInputs(const Scan& scan, const SegmentationParams& params,
   inputs.contacts = detail::groundContacts(inputs);
   inputs.floor_crossings = detail::floorCrossings(
       scan, analysis.sensor, map_from_scanner, inputs.grid, inputs.ground_plane, inputs.obstacles);
-  inputs.view = detail::viewLimitOf(scan, analysis.sensor, map_from_scanner, threads);
+  view_search.join();
+  inputs.view = std::move(view);
   return inputs;
 }
 

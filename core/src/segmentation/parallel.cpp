@@ -6,6 +6,13 @@
 #include <thread>
 
 namespace clearway::detail {
+
+struct BackgroundTask::State {
+  bool done = false;
+  std::condition_variable finished;
+  std::exception_ptr error;
+};
+
 namespace {
 
 // Workers that wait for tasks; one call's tasks share a counter the caller waits on.
@@ -58,6 +65,41 @@ class Pool {
     }
   }
 
+  // Queues `task`; `state` says when it is done.
+  void start(const std::shared_ptr<BackgroundTask::State>& state, std::function<void()> task) {
+    {
+      std::lock_guard lock(mutex_);
+      queue_.push_back([state, task = std::move(task), this] {
+        try {
+          task();
+        } catch (...) {
+          state->error = std::current_exception();
+        }
+        std::lock_guard finished(mutex_);
+        state->done = true;
+        state->finished.notify_all();
+      });
+    }
+    wake_.notify_one();
+  }
+
+  // Waits until `state` is done, helping with queued work meanwhile (the task itself, if no
+  // worker has taken it yet).
+  void join(BackgroundTask::State& state) {
+    std::unique_lock lock(mutex_);
+    while (!state.done) {
+      if (!queue_.empty()) {
+        auto next = std::move(queue_.front());
+        queue_.pop_front();
+        lock.unlock();
+        next();
+        lock.lock();
+      } else {
+        state.finished.wait(lock);
+      }
+    }
+  }
+
   static bool onWorker() { return on_worker_; }
 
  private:
@@ -85,6 +127,11 @@ class Pool {
 
 thread_local bool Pool::on_worker_ = false;
 
+Pool& pool() {
+  static Pool threads;
+  return threads;
+}
+
 }  // namespace
 
 void runTasks(std::vector<std::function<void()>>& tasks) {
@@ -94,8 +141,32 @@ void runTasks(std::vector<std::function<void()>>& tasks) {
       task();
     return;
   }
-  static Pool pool;
-  pool.run(tasks);
+  pool().run(tasks);
+}
+
+BackgroundTask::BackgroundTask(std::function<void()> task, int threads)
+    : state_(std::make_shared<State>()) {
+  if (threads > 1 && !Pool::onWorker()) {
+    pooled_ = true;
+    pool().start(state_, std::move(task));
+    return;
+  }
+  try {
+    task();
+  } catch (...) {
+    state_->error = std::current_exception();
+  }
+  state_->done = true;
+}
+
+BackgroundTask::~BackgroundTask() {
+  if (pooled_ && !joined_) pool().join(*state_);
+}
+
+void BackgroundTask::join() {
+  joined_ = true;
+  if (pooled_) pool().join(*state_);
+  if (state_->error) std::rethrow_exception(state_->error);
 }
 
 }  // namespace clearway::detail

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <exception>
 #include <functional>
+#include <memory>
 #include <vector>
 
 namespace clearway::detail {
@@ -55,6 +56,28 @@ class PerPart {
 // Runs every task, some on the pool's threads and the first on the caller's, and returns when all
 // have finished. Safe from several threads at once; a call made from a pool thread runs inline.
 void runTasks(std::vector<std::function<void()>>& tasks);
+
+// A task started on the pool that the caller joins later, doing other work meanwhile: work whose
+// result is needed only later in a run (the staircases, the scanner's view) then fills the
+// stretches where the other thread would wait for serial work. With one thread, or from a pool
+// thread, it runs at once on the caller's. The caller helps with queued work while it waits.
+// join() rethrows the task's error; the destructor joins too, so that what the task refers to
+// outlives it.
+class BackgroundTask {
+ public:
+  BackgroundTask(std::function<void()> task, int threads);
+  ~BackgroundTask();
+  BackgroundTask(const BackgroundTask&) = delete;
+  BackgroundTask& operator=(const BackgroundTask&) = delete;
+  void join();
+
+  struct State;
+
+ private:
+  std::shared_ptr<State> state_;
+  bool pooled_ = false;  // queued on the pool, not run at once
+  bool joined_ = false;
+};
 
 // Runs different tasks in parallel (one after the other with one thread): the first on the
 // caller's thread, which then helps with the others. Rethrows the first error, in task order.

@@ -4,9 +4,11 @@
 #include <chrono>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "clearway/segmentation/up_estimation.h"
 #include "clearway/traversability/ground_density.h"
+#include "parallel.h"
 #include "ring_ground.h"
 #include "ring_support.h"
 
@@ -139,6 +141,16 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
                             : estimate.reason;
     }
   }
+  // The staircase search needs only the map frame, fixed from here on: it runs beside the
+  // ground's last steps.
+  std::vector<Staircase> staircases;
+  std::optional<detail::BackgroundTask> stairs_search;
+  if (analysis.ground_found)
+    stairs_search.emplace(
+        [&scan, &staircases, &params, map_from_scanner = analysis.map_from_scanner] {
+          staircases = detectStairs(scan, map_from_scanner, params.stairs);
+        },
+        threads);
   if (multi_beam) absorbGroundPatches(scan, params.validation, spread, analysis);
   // Any sensor: ground is the lowest surface in its column (a table top is not).
   dropGroundOverLowerReturns(scan, params.robot.max_step, params.ground.max_slope_deg, analysis,
@@ -158,9 +170,11 @@ ScanAnalysis analyseScan(const Scan& scan, const SegmentationParams& params, int
   clock.stop("ground");
   reportProgress(progress, 0.85);
 
-  if (analysis.ground_found)
-    analysis.stairs.staircases = detectStairs(scan, analysis.map_from_scanner, params.stairs);
-  clock.stop("stairs");
+  if (stairs_search) {
+    stairs_search->join();
+    analysis.stairs.staircases = std::move(staircases);
+  }
+  clock.stop("stairs");  // what is left of the search once the ground is done
 
   if (multi_beam && analysis.ground_found) {
     // A multi-beam frame reaches 80 m and more, but its rings vouch for the ground only out to
