@@ -4,6 +4,7 @@
 #include <deque>
 #include <mutex>
 #include <thread>
+#include <utility>
 
 namespace clearway::detail {
 
@@ -147,25 +148,23 @@ void runTasks(std::vector<std::function<void()>>& tasks) {
 BackgroundTask::BackgroundTask(std::function<void()> task, int threads)
     : state_(std::make_shared<State>()) {
   if (threads > 1 && !Pool::onWorker()) {
-    pooled_ = true;
     pool().start(state_, std::move(task));
-    return;
+  } else {
+    deferred_ = std::move(task);
   }
-  try {
-    task();
-  } catch (...) {
-    state_->error = std::current_exception();
-  }
-  state_->done = true;
 }
 
 BackgroundTask::~BackgroundTask() {
-  if (pooled_ && !joined_) pool().join(*state_);
+  if (!joined_ && !deferred_) pool().join(*state_);
 }
 
 void BackgroundTask::join() {
   joined_ = true;
-  if (pooled_) pool().join(*state_);
+  if (deferred_) {
+    std::exchange(deferred_, nullptr)();
+    return;
+  }
+  pool().join(*state_);
   if (state_->error) std::rethrow_exception(state_->error);
 }
 

@@ -59,10 +59,11 @@ void runTasks(std::vector<std::function<void()>>& tasks);
 
 // A task started on the pool that the caller joins later, doing other work meanwhile: work whose
 // result is needed only later in a run (the staircases, the scanner's view) then fills the
-// stretches where the other thread would wait for serial work. With one thread, or from a pool
-// thread, it runs at once on the caller's. The caller helps with queued work while it waits.
-// join() rethrows the task's error; the destructor joins too, so that what the task refers to
-// outlives it.
+// stretches where the other thread would wait for serial work. The caller helps with queued work
+// while it waits. With one thread, or from a pool thread, the task runs when joined, on the
+// caller's thread: the run does its work in the order it would without it (and its memory peaks
+// as it did). join() rethrows the task's error; the destructor waits for a started task, so that
+// what it refers to outlives it, and drops one never joined.
 class BackgroundTask {
  public:
   BackgroundTask(std::function<void()> task, int threads);
@@ -75,7 +76,7 @@ class BackgroundTask {
 
  private:
   std::shared_ptr<State> state_;
-  bool pooled_ = false;  // queued on the pool, not run at once
+  std::function<void()> deferred_;  // the task, when it runs at join()
   bool joined_ = false;
 };
 
