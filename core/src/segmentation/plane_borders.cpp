@@ -32,6 +32,30 @@ void forEachPlaneBorder(const MapInputs& inputs, Visit&& visit) {
   }
 }
 
+// Calls visit(here, there, a, b, between) for every two ground cells of different planes a and b
+// with one unobserved cell between them along a row, a column or a diagonal (`between`: its
+// centre). The traversability stage lets the robot's box stand over such a cell (a beam that fell
+// between two cells), so the ground either side must be as close as side-by-side cells' is.
+template <typename Visit>
+void forEachPlaneBorderAcrossAGap(const MapInputs& inputs, Visit&& visit) {
+  const MapGrid& grid = inputs.grid;
+  for (int row = 0; row < grid.height; ++row) {
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t here = grid.index(column, row);
+      const int a = inputs.ground_plane[here];
+      if (a < 0) continue;
+      for (const auto& [dc, dr] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, {1, -1}}) {
+        if (!grid.inside(column + 2 * dc, row + 2 * dr)) continue;
+        if (inputs.ground_plane[grid.index(column + dc, row + dr)] >= 0) continue;
+        const std::size_t there = grid.index(column + 2 * dc, row + 2 * dr);
+        const int b = inputs.ground_plane[there];
+        if (b < 0 || b == a) continue;
+        visit(here, there, a, b, grid.centre(column + dc, row + dr));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 // Where cells of two ground planes meet with more than kTouchingStep between them, the step is at
@@ -44,8 +68,8 @@ void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane
   auto planeZ = [&](int plane, const Eigen::Vector2d& p) {
     return heightOnPlane(plane_heights[std::size_t(plane)], p.x(), p.y());
   };
-  forEachPlaneBorder(inputs, [&](std::size_t here, std::size_t there, int a, int b,
-                                 const Eigen::Vector2d& between) {
+  auto markEdge = [&](std::size_t here, std::size_t there, int a, int b,
+                      const Eigen::Vector2d& between) {
     const double cells_step =
         std::abs(double(inputs.ground_height[here]) - double(inputs.ground_height[there]));
     if (cells_step <= EdgeLimit::kTouchingStep) return;
@@ -62,7 +86,9 @@ void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane
         float(std::max(cells_step, std::isfinite(planes_step) ? planes_step : 0.0) + uncertainty);
     inputs.seam_step[here] = std::max(inputs.seam_step[here], step);
     inputs.seam_step[there] = std::max(inputs.seam_step[there], step);
-  });
+  };
+  forEachPlaneBorder(inputs, markEdge);
+  forEachPlaneBorderAcrossAGap(inputs, markEdge);
 }
 
 // Where cells of two ground planes touch, and the smallest step between them.

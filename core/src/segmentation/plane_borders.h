@@ -11,8 +11,9 @@
 namespace clearway::detail {
 
 // Raises MapInputs::seam_step of both cells wherever cells of two ground planes meet more than
-// EdgeLimit::kTouchingStep apart: at least the planes' difference there (`plane_heights`, per
-// plane, as EdgeLimit::plane_heights), plus what either side is measured to.
+// EdgeLimit::kTouchingStep apart, side by side or across one unobserved cell (which the robot's
+// box may stand over): at least the planes' difference there (`plane_heights`, per plane, as
+// EdgeLimit::plane_heights), plus what either side is measured to.
 void markPlaneEdges(MapInputs& inputs, const std::vector<Eigen::Vector3d>& plane_heights,
                     const std::vector<Plane>& planes);
 
