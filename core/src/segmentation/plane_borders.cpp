@@ -39,21 +39,36 @@ void forEachPlaneBorder(const MapInputs& inputs, Visit&& visit) {
 template <typename Visit>
 void forEachPlaneBorderAcrossAGap(const MapInputs& inputs, Visit&& visit) {
   const MapGrid& grid = inputs.grid;
-  for (int row = 0; row < grid.height; ++row) {
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t here = grid.index(column, row);
-      const int a = inputs.ground_plane[here];
+  const int width = grid.width, height = grid.height;
+  const auto* plane = inputs.ground_plane.data();
+  // Along a row, a column and both diagonals: each pair of cells is met once.
+  struct Direction {
+    int dc, dr;
+  };
+  constexpr Direction kDirections[] = {{1, 0}, {0, 1}, {1, 1}, {1, -1}};
+  // A pass over every cell of a multi-beam frame's map (hundreds of thousands): indices by hand,
+  // and a cell whose four middle cells are all ground (most) left at once.
+  const auto w = std::ptrdiff_t(width);
+  for (int row = 0; row < height; ++row)
+    for (int column = 0; column < width; ++column) {
+      const std::size_t here = std::size_t(row) * std::size_t(width) + std::size_t(column);
+      const int a = plane[here];
       if (a < 0) continue;
-      for (const auto& [dc, dr] : {std::pair{1, 0}, std::pair{0, 1}, std::pair{1, 1}, {1, -1}}) {
-        if (!grid.inside(column + 2 * dc, row + 2 * dr)) continue;
-        if (inputs.ground_plane[grid.index(column + dc, row + dr)] >= 0) continue;
-        const std::size_t there = grid.index(column + 2 * dc, row + 2 * dr);
-        const int b = inputs.ground_plane[there];
+      if (row > 0 && row + 1 < height && column + 1 < width) {
+        const auto* at = plane + here;
+        if (at[1] >= 0 && at[w] >= 0 && at[w + 1] >= 0 && at[1 - w] >= 0) continue;
+      }
+      for (const Direction d : kDirections) {
+        const int far_column = column + 2 * d.dc, far_row = row + 2 * d.dr;
+        if (far_column >= width || far_row < 0 || far_row >= height) continue;
+        const std::ptrdiff_t step = d.dc + d.dr * w;
+        if (plane[std::size_t(std::ptrdiff_t(here) + step)] >= 0) continue;
+        const std::size_t there = std::size_t(std::ptrdiff_t(here) + 2 * step);
+        const int b = plane[there];
         if (b < 0 || b == a) continue;
-        visit(here, there, a, b, grid.centre(column + dc, row + dr));
+        visit(here, there, a, b, grid.centre(column + d.dc, row + d.dr));
       }
     }
-  }
 }
 
 }  // namespace
