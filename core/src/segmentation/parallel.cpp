@@ -53,17 +53,7 @@ class Pool {
     tasks.front()();
     // Help with queued work while waiting, so a busy pool never stalls a caller.
     std::unique_lock lock(mutex_);
-    while (batch.remaining > 0) {
-      if (!queue_.empty()) {
-        auto next = std::move(queue_.front());
-        queue_.pop_front();
-        lock.unlock();
-        next();
-        lock.lock();
-      } else {
-        batch.done.wait(lock);
-      }
-    }
+    helpUntil(lock, batch.done, [&batch] { return batch.remaining == 0; });
   }
 
   // Queues `task`; `state` says when it is done.
@@ -88,7 +78,18 @@ class Pool {
   // worker has taken it yet).
   void join(BackgroundTask::State& state) {
     std::unique_lock lock(mutex_);
-    while (!state.done) {
+    helpUntil(lock, state.finished, [&state] { return state.done; });
+  }
+
+  static bool onWorker() { return on_worker_; }
+
+ private:
+  // Runs queued work until `finished()` holds, waiting on `done` while the queue is empty.
+  // `lock` holds mutex_.
+  template <typename Finished>
+  void helpUntil(std::unique_lock<std::mutex>& lock, std::condition_variable& done,
+                 Finished finished) {
+    while (!finished()) {
       if (!queue_.empty()) {
         auto next = std::move(queue_.front());
         queue_.pop_front();
@@ -96,14 +97,11 @@ class Pool {
         next();
         lock.lock();
       } else {
-        state.finished.wait(lock);
+        done.wait(lock);
       }
     }
   }
 
-  static bool onWorker() { return on_worker_; }
-
- private:
   void serve() {
     on_worker_ = true;
     std::unique_lock lock(mutex_);
