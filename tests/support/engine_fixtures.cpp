@@ -55,6 +55,24 @@ SimulatedRun simulateFromOrigin(const sim::Scene& scene, const SegmentationParam
   return run;
 }
 
+sim::Primitive solidBox(const std::string& name, PointClass point_class,
+                        const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
+  sim::Primitive primitive;
+  primitive.name = name;
+  primitive.point_class = point_class;
+  primitive.center = center;
+  primitive.size = size;
+  return primitive;
+}
+
+SimulatedRun simulateFromTheArm(const sim::Scene& scene, const sim::SensorModel& sensor,
+                                const SegmentationParams& params) {
+  sim::ScannerPlacement placement;
+  placement.position = {0.0, 0.0, 1.2};
+  placement.axis = Eigen::Vector3d(1.0, 0.0, -0.3).normalized();
+  return simulateSavedAndSegment(scene, sensor, placement, params);
+}
+
 SimulatedRun simulateSavedAndSegment(const sim::Scene& scene, const sim::SensorModel& sensor,
                                      const sim::ScannerPlacement& placement,
                                      const SegmentationParams& params) {

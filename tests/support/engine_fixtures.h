@@ -29,6 +29,16 @@ SimulatedRun simulateAndSegment(const std::string& scene, int lines,
 // out to 8 m (the hand-built scenes' scanner), and runs the pipeline with `params`.
 SimulatedRun simulateFromOrigin(const sim::Scene& scene, const SegmentationParams& params = {});
 
+// An unturned box of `point_class` for a scene built in a test: centre and full edge lengths.
+sim::Primitive solidBox(const std::string& name, PointClass point_class,
+                        const Eigen::Vector3d& center, const Eigen::Vector3d& size);
+
+// Simulates `scene` from the robot's arm as the probe scenes have it (1.2 m above the origin, the
+// turntable axis ahead tilted down, (1, 0, -0.3)) with `sensor`, saved and loaded as
+// simulateSavedAndSegment does, and runs the pipeline with `params`.
+SimulatedRun simulateFromTheArm(const sim::Scene& scene, const sim::SensorModel& sensor,
+                                const SegmentationParams& params = {});
+
 // Simulates `scene` and runs the pipeline on the scan as the console would have it: saved as a
 // PCD (single-precision coordinates) and loaded again, as `clearway-cli simulate` then `segment`.
 SimulatedRun simulateSavedAndSegment(const sim::Scene& scene, const sim::SensorModel& sensor,

@@ -262,19 +262,35 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   stride_ = grid.width + 2 * pad_;
   const std::size_t padded = std::size_t(stride_) * std::size_t(grid.height + 2 * pad_);
   strict_.assign(padded, 1);
-  lenient_.assign(padded, 2);
+  lenient_.assign(padded, kBlockedAtCentre);
   point_cell_.assign(grid.cells(), kNoPoints);
+  // Whether a cell touches ground too steep or of another level: beside a drop (a pit's rim, a
+  // dock's edge) an unobserved cell may hold the edge anywhere in it.
+  auto besideADrop = [&](int column, int row) {
+    for (int dr = -1; dr <= 1; ++dr)
+      for (int dc = -1; dc <= 1; ++dc) {
+        if (!grid.inside(column + dc, row + dr)) continue;
+        const std::size_t next = grid.index(column + dc, row + dr);
+        if (classes.state[next] == CellState::kBlocked &&
+            (classes.reason[next] == CellReason::kTooSteep ||
+             classes.reason[next] == CellReason::kOtherLevel))
+          return true;
+      }
+    return false;
+  };
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row), here = paddedIndex(column, row);
       const CellState state = classes.state[cell];
       strict_[here] = state == CellState::kBlocked || state == CellState::kUnknown;
       if (state == CellState::kBlocked) {
-        lenient_[here] = classes.blocked_by_points_only[cell] ? 1 : 2;
+        lenient_[here] = classes.blocked_by_points_only[cell] ? kBlockedByPoints : kBlockedAtCentre;
       } else if (state == CellState::kUnknown) {
-        lenient_[here] = tolerated[cell] ? 0 : 2;
+        lenient_[here] = tolerated[cell]            ? kPassable
+                         : besideADrop(column, row) ? kBlockedWhole
+                                                    : kBlockedAtCentre;
       } else {
-        lenient_[here] = 0;
+        lenient_[here] = kPassable;
       }
       const std::uint32_t first = classes.point_start[cell], last = classes.point_start[cell + 1];
       if (first == last) continue;
@@ -318,7 +334,7 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   };
   strict_counts_ = runningCounts(strict_, 1);
   lenient_counts_ = runningCounts(lenient_, 1);
-  centre_counts_ = runningCounts(lenient_, 2);
+  centre_counts_ = runningCounts(lenient_, kBlockedAtCentre);
   auto runs = [&](const std::vector<std::vector<RowSpan>>& lists) {
     std::vector<std::vector<Run>> result;
     for (const auto& spans : lists) {
@@ -468,11 +484,17 @@ bool FootprintTester::fitsExactlyInCell(int column, int row, int orientation) co
     const std::uint8_t code = here[rim_steps[i]];
     if (code == 0) continue;
     const int cc = column + rim[i].dx, rr = row + rim[i].dy;
-    if (code == 1) {  // only cells inside the grid hold points
+    if (code == kBlockedByPoints) {  // only cells inside the grid hold points
       if (!addCellPoints(grid_.index(cc, rr), k, centre, add)) return false;
-    } else {
+    } else if (code == kBlockedAtCentre) {
       const Eigen::Vector2d other = grid_.centre(cc, rr);
       add(other.x(), other.y());
+    } else {  // kBlockedWhole: its corners stand for it
+      const Eigen::Vector2d other = grid_.centre(cc, rr);
+      const double half = 0.5 * grid_.resolution;
+      for (const double dx : {-half, half})
+        for (const double dy : {-half, half})
+          add(other.x() + dx, other.y() + dy);
     }
     if (blocks_every_centre) return false;
   }

@@ -180,8 +180,18 @@ class FootprintTester {
   int pad_ = 0;
   int stride_ = 0;
   // One byte per cell, so each offset costs one read: strict (blocked or unobserved) and lenient
-  // (0 passable, 1 blocked by measured points only, 2 blocked otherwise). A border as wide as the
-  // largest footprint stands for the outside of the map, which blocks: no bounds checks.
+  // (the codes below). A border as wide as the largest footprint stands for the outside of the
+  // map, which blocks: no bounds checks.
+  static constexpr std::uint8_t kPassable = 0;
+  // Blocked by measured points only: the exact test reads the points.
+  static constexpr std::uint8_t kBlockedByPoints = 1;
+  // Blocked otherwise, unobserved (and not a gap a beam fell through), or outside the map: blocks
+  // at its centre. The samples either side of an unobserved stretch leave off about where its
+  // cells begin: a door's jamb casts one, and a door 5 cm wider than the robot is passed.
+  static constexpr std::uint8_t kBlockedAtCentre = 2;
+  // Unobserved beside a drop (ground too steep or of another level): the edge may lie anywhere
+  // in it, and all of it blocks.
+  static constexpr std::uint8_t kBlockedWhole = 3;
   std::vector<std::uint8_t> strict_;   // padded
   std::vector<std::uint8_t> lenient_;  // padded
   // Per cell: its number among the cells with blocking points (else kNoPoints). Those cells'

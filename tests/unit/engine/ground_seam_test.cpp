@@ -198,13 +198,8 @@ TEST(GroundSeam, ADropInItsOwnShadowIsAStepForTheRobot) {
 TEST(GroundSeam, ARampsSideDropAcrossAnUnseenCellIsNotStraddled) {
   sim::Scene scene;
   scene.name = "ramp-with-open-sides";
-  auto slab = [](const char* name, Eigen::Vector3d center, Eigen::Vector3d size) {
-    sim::Primitive primitive;
-    primitive.name = name;
-    primitive.point_class = PointClass::kGround;
-    primitive.center = center;
-    primitive.size = size;
-    return primitive;
+  auto slab = [](const char* name, const Eigen::Vector3d& center, const Eigen::Vector3d& size) {
+    return test::solidBox(name, PointClass::kGround, center, size);
   };
   constexpr double kSlope = 5.0 * std::numbers::pi / 180.0;
   constexpr double kRampLength = 3.0;                  // along x, from x = 2.5 m
@@ -224,17 +219,45 @@ TEST(GroundSeam, ARampsSideDropAcrossAnUnseenCellIsNotStraddled) {
   sensor.seed = 3;
   sensor.range_noise_sigma = 0.02;
   sensor.mixed_pixels = true;
-  sim::ScannerPlacement placement;
-  placement.position = {0.0, 0.0, 1.2};
-  placement.axis = Eigen::Vector3d(1.0, 0.0, -0.3).normalized();
-  const SegmentationParams params;
-  const test::SimulatedRun run = test::simulateSavedAndSegment(scene, sensor, placement, params);
+  const test::SimulatedRun run = test::simulateFromTheArm(scene, sensor);
   ASSERT_TRUE(run.result.trusted()) << run.result.reason;
-  const eval::Evaluation e = test::evaluateRun(run, params);
+  const eval::Evaluation e = test::evaluateRun(run);
   EXPECT_EQ(e.map.false_traversable_cells, 0U);
   EXPECT_GT(e.map.traversable_cells, 15000U);
   // Down the ramp, and around it on the lower floor.
   EXPECT_TRUE(test::connectedInMap(run, {1.0, 0.0, 0.0}, {7.0, 0.0, -fall}));
+}
+
+// A pit 1 x 1 m and 0.7 m deep, 2 m ahead, seen at 200 lines from 1.2 m up: between the last
+// return on the floor before its rim and the first one inside it, a cell or two were not seen. The
+// robot's box may reach to the middle of an unobserved cell (a door's jamb casts one, and a door
+// 5 cm wider than the robot is passed), but beside a drop the rim may lie anywhere in it: the box
+// stood 1-2 cm over the rim (2 false cells; the probe of docs/ALGORITHM.md, "Known limits").
+// Unobserved cells beside ground too steep or of another level now block as a whole.
+TEST(GroundSeam, APitsRimIsNotReachedOverWhereItsEdgeWasNotSeen) {
+  sim::Scene scene;
+  scene.name = "pit";
+  const auto solid = test::solidBox;
+  constexpr double kDepth = 0.7;
+  scene.primitives = {
+      solid("floor_near", PointClass::kGround, {-0.5, 0.0, -0.05}, {5.0, 10.0, 0.1}),
+      solid("floor_far", PointClass::kGround, {7.0, 0.0, -0.05}, {8.0, 10.0, 0.1}),
+      solid("floor_right", PointClass::kGround, {2.5, -2.75, -0.05}, {1.0, 4.5, 0.1}),
+      solid("floor_left", PointClass::kGround, {2.5, 2.75, -0.05}, {1.0, 4.5, 0.1}),
+      solid("pit_bottom", PointClass::kGround, {2.5, 0.0, -kDepth - 0.05}, {1.4, 1.4, 0.1}),
+      solid("pit_side_near", PointClass::kWall, {1.9, 0.0, -0.4}, {0.2, 1.4, kDepth - 0.1}),
+      solid("pit_side_far", PointClass::kWall, {3.1, 0.0, -0.4}, {0.2, 1.4, kDepth - 0.1}),
+      solid("pit_side_right", PointClass::kWall, {2.5, -0.6, -0.4}, {1.4, 0.2, kDepth - 0.1}),
+      solid("pit_side_left", PointClass::kWall, {2.5, 0.6, -0.4}, {1.4, 0.2, kDepth - 0.1})};
+  sim::SensorModel sensor;
+  sensor.lines = 200;
+  const test::SimulatedRun run = test::simulateFromTheArm(scene, sensor);
+  ASSERT_TRUE(run.result.trusted()) << run.result.reason;
+  const eval::Evaluation e = test::evaluateRun(run);
+  EXPECT_EQ(e.map.false_traversable_cells, 0U);
+  EXPECT_GT(e.map.traversable_cells, 15000U);
+  // Around the pit to the floor beyond it.
+  EXPECT_TRUE(test::connectedInMap(run, {0.8, 0.0, 0.0}, {4.5, 0.0, 0.0}));
 }
 
 }  // namespace

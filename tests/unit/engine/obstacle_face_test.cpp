@@ -17,15 +17,7 @@
 namespace clearway {
 namespace {
 
-sim::Primitive box(const char* name, PointClass point_class, Eigen::Vector3d center,
-                   Eigen::Vector3d size) {
-  sim::Primitive primitive;
-  primitive.name = name;
-  primitive.point_class = point_class;
-  primitive.center = center;
-  primitive.size = size;
-  return primitive;
-}
+const auto box = test::solidBox;
 
 // A walled floor 10 x 8 m with one low box (0.4 x 0.4 m, `height` tall) at (x, y), scanned from
 // 1.2 m above the floor with the turntable axis tilted down ahead, as on the robot's arm.

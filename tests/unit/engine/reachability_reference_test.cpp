@@ -58,7 +58,22 @@ class PlainPoseTests {
     const CellState state = classes_.state[grid_.index(column, row)];
     return state == CellState::kBlocked || state == CellState::kUnknown;
   }
-  // 0 passable, 1 blocked by measured points only, 2 blocked otherwise (outside the map too).
+  // Ground too steep or of another level: a drop.
+  bool drop(int column, int row) const {
+    if (!grid_.inside(column, row)) return false;
+    const std::size_t cell = grid_.index(column, row);
+    return classes_.state[cell] == CellState::kBlocked &&
+           (classes_.reason[cell] == CellReason::kTooSteep ||
+            classes_.reason[cell] == CellReason::kOtherLevel);
+  }
+  bool besideADrop(int column, int row) const {
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (drop(column + dx, row + dy)) return true;
+    return false;
+  }
+  // 0 passable, 1 blocked by measured points only, 2 blocking at its centre (blocked otherwise,
+  // unobserved, outside the map), 3 blocking as a whole (unobserved beside a drop).
   int lenientCode(int column, int row) const {
     if (!grid_.inside(column, row)) return 2;
     const std::size_t cell = grid_.index(column, row);
@@ -66,7 +81,7 @@ class PlainPoseTests {
       case CellState::kBlocked:
         return classes_.blocked_by_points_only[cell] ? 1 : 2;
       case CellState::kUnknown:
-        return tolerated_[cell] ? 0 : 2;
+        return tolerated_[cell] ? 0 : besideADrop(column, row) ? 3 : 2;
       default:
         return 0;
     }
@@ -108,9 +123,14 @@ class PlainPoseTests {
           for (std::uint32_t p = classes_.point_start[cell]; p < classes_.point_start[cell + 1];
                ++p)
             add(classes_.xs[p], classes_.ys[p]);
-        } else {
+        } else if (code == 2) {
           const Eigen::Vector2d other = grid_.centre(column + dx, row + dy);
           add(other.x(), other.y());
+        } else {
+          const Eigen::Vector2d other = grid_.centre(column + dx, row + dy);
+          for (const double cx : {-0.5, 0.5})
+            for (const double cy : {-0.5, 0.5})
+              add(other.x() + cx * grid_.resolution, other.y() + cy * grid_.resolution);
         }
       }
     const double step = grid_.resolution / 5.0;
