@@ -264,20 +264,22 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   strict_.assign(padded, 1);
   lenient_.assign(padded, kBlockedAtCentre);
   point_cell_.assign(grid.cells(), kNoPoints);
-  // Whether a cell touches ground too steep or of another level: beside a drop (a pit's rim, a
-  // dock's edge) an unobserved cell may hold the edge anywhere in it.
-  auto besideADrop = [&](int column, int row) {
-    for (int dr = -1; dr <= 1; ++dr)
-      for (int dc = -1; dc <= 1; ++dc) {
-        if (!grid.inside(column + dc, row + dr)) continue;
-        const std::size_t next = grid.index(column + dc, row + dr);
-        if (classes.state[next] == CellState::kBlocked &&
-            (classes.reason[next] == CellReason::kTooSteep ||
-             classes.reason[next] == CellReason::kOtherLevel))
-          return true;
-      }
-    return false;
-  };
+  // The cells touching ground too steep or of another level: beside a drop (a pit's rim, a dock's
+  // edge) an unobserved cell may hold the edge anywhere in it. Marked from the drops, which are
+  // few, so that the loop below reads one byte per cell.
+  std::vector<std::uint8_t> beside_drop(grid.cells(), 0);
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      if (classes.state[cell] != CellState::kBlocked ||
+          (classes.reason[cell] != CellReason::kTooSteep &&
+           classes.reason[cell] != CellReason::kOtherLevel))
+        continue;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc)
+          if (grid.inside(column + dc, row + dr))
+            beside_drop[grid.index(column + dc, row + dr)] = 1;
+    }
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row), here = paddedIndex(column, row);
@@ -286,9 +288,9 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
       if (state == CellState::kBlocked) {
         lenient_[here] = classes.blocked_by_points_only[cell] ? kBlockedByPoints : kBlockedAtCentre;
       } else if (state == CellState::kUnknown) {
-        lenient_[here] = tolerated[cell]            ? kPassable
-                         : besideADrop(column, row) ? kBlockedWhole
-                                                    : kBlockedAtCentre;
+        lenient_[here] = tolerated[cell]     ? kPassable
+                         : beside_drop[cell] ? kBlockedWhole
+                                             : kBlockedAtCentre;
       } else {
         lenient_[here] = kPassable;
       }
