@@ -497,6 +497,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   classes.reason.assign(cells, CellReason::kNone);
   classes.blocked_by_points_only.assign(cells, 0);
   classes.accepted_ground = reachableGround(analysis, robot.max_step);
+  classes.viewpoint = analysis.map_from_scanner.translation().head<2>();
   std::vector<bool> accepted(analysis.planes.planes.size(), false);
   for (int g : classes.accepted_ground)
     accepted[std::size_t(g)] = true;
@@ -568,7 +569,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
   markSteps(analysis, robot, classes, threads);
 
   // The robot stands on its own place: the floor under it is ground, seen or not.
-  std::vector<std::uint8_t> own_cells;
+  std::vector<std::uint8_t>& own_cells = classes.own_place;
   if (own_place) {
     own_cells.assign(cells, 0);
     const double margin = 0.5 * grid.resolution;

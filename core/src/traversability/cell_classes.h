@@ -31,6 +31,11 @@ struct CellClasses {
   std::vector<std::uint8_t> sparse;
   // 1 on free cells whose band up to the robot's height no beam rose through (view_band.h).
   std::vector<std::uint8_t> above_view;
+  // 1 on the cells made ground because the robot stands there (classifyCells' `own_place`), seen
+  // or not; empty without it.
+  std::vector<std::uint8_t> own_place;
+  // Where the scanner's rays start, on the map [m].
+  Eigen::Vector2d viewpoint = Eigen::Vector2d::Zero();
 };
 
 // Ground planes reachable from the reference through contacts no higher than the robot's step

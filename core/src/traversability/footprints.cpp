@@ -231,6 +231,102 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
   return tolerated;
 }
 
+namespace {
+
+bool isFree(CellState state) {
+  return state == CellState::kGround || state == CellState::kLowObstacle;
+}
+
+bool isDrop(const CellClasses& classes, std::size_t cell) {
+  return classes.state[cell] == CellState::kBlocked &&
+         (classes.reason[cell] == CellReason::kTooSteep ||
+          classes.reason[cell] == CellReason::kOtherLevel);
+}
+
+// tan(22.5 deg): a direction is nearest the neighbour whose direction lies within this of it.
+constexpr double kTanHalfOctant = 0.41421356237309503;
+
+// Free ground the rays passed over, one byte per cell with a ring of zeros around the grid:
+// (column + 1, row + 1) holds cell (column, row). The robot's own place is ground whether seen or
+// not, and no ray need have passed over it.
+class PaddedGroundSeen {
+ public:
+  PaddedGroundSeen(const CellClasses& classes, const MapGrid& grid)
+      : stride_(std::size_t(grid.width) + 2), seen_(stride_ * (std::size_t(grid.height) + 2), 0) {
+    for (int row = 0; row < grid.height; ++row)
+      for (int column = 0; column < grid.width; ++column) {
+        const std::size_t cell = grid.index(column, row);
+        seen_[at(column, row)] =
+            isFree(classes.state[cell]) && (classes.own_place.empty() || !classes.own_place[cell]);
+      }
+  }
+  bool operator()(int column, int row) const { return seen_[at(column, row)] != 0; }
+  // Whether any of the cell's eight neighbours is such ground.
+  bool besideAny(int column, int row) const {
+    const std::uint8_t* here = seen_.data() + at(column, row);
+    const std::uint8_t* above = here - stride_;
+    const std::uint8_t* below = here + stride_;
+    return (above[-1] | above[0] | above[1] | here[-1] | here[1] | below[-1] | below[0] |
+            below[1]) != 0;
+  }
+
+ private:
+  std::size_t at(int column, int row) const {
+    return std::size_t(row + 1) * stride_ + std::size_t(column + 1);
+  }
+  std::size_t stride_;
+  std::vector<std::uint8_t> seen_;
+};
+
+// Whether the ground ends in the unobserved cell (column, row) along the scanner's rays
+// (unknownCellsAnEdgeMayCross).
+bool groundEndsIn(const CellClasses& classes, const MapGrid& grid,
+                  const PaddedGroundSeen& ground_seen, int column, int row, int reach) {
+  if (!ground_seen.besideAny(column, row)) return false;
+  const Eigen::Vector2d towards = classes.viewpoint - grid.centre(column, row);
+  const double ax = std::abs(towards.x()), ay = std::abs(towards.y());
+  const int dc = ax > kTanHalfOctant * ay ? (towards.x() > 0 ? 1 : -1) : 0;
+  const int dr = ay > kTanHalfOctant * ax ? (towards.y() > 0 ? 1 : -1) : 0;
+  // Outside the grid the padding holds no ground.
+  if ((dc == 0 && dr == 0) || !ground_seen(column + dc, row + dr)) return false;
+  // A cell at a time along the ray, in cells from the grid's corner.
+  const Eigen::Vector2d away = -towards.normalized();
+  for (int step = 1; step <= reach; ++step) {
+    const auto beyond_column = int(std::floor(column + 0.5 + away.x() * step));
+    const auto beyond_row = int(std::floor(row + 0.5 + away.y() * step));
+    if (!grid.inside(beyond_column, beyond_row)) return true;
+    const std::size_t cell = grid.index(beyond_column, beyond_row);
+    if (classes.state[cell] != CellState::kUnknown) return isDrop(classes, cell);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> unknownCellsAnEdgeMayCross(const CellClasses& classes,
+                                                     const MapGrid& grid, int reach) {
+  std::vector<std::uint8_t> crossed(grid.cells(), 0);
+  // Beside a drop: marked from the drops, which are few.
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      if (!isDrop(classes, grid.index(column, row))) continue;
+      for (int dr = -1; dr <= 1; ++dr)
+        for (int dc = -1; dc <= 1; ++dc)
+          if (grid.inside(column + dc, row + dr)) crossed[grid.index(column + dc, row + dr)] = 1;
+    }
+  const PaddedGroundSeen ground_seen(classes, grid);
+  for (int row = 0; row < grid.height; ++row)
+    for (int column = 0; column < grid.width; ++column) {
+      const std::size_t cell = grid.index(column, row);
+      if (classes.state[cell] != CellState::kUnknown) {
+        crossed[cell] = 0;
+      } else if (!crossed[cell] && groundEndsIn(classes, grid, ground_seen, column, row, reach)) {
+        crossed[cell] = 1;
+      }
+    }
+  return crossed;
+}
+
 FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes,
                                  const std::vector<std::uint8_t>& tolerated,
                                  const Footprints& footprints, const RobotParams& robot,
@@ -264,22 +360,8 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
   strict_.assign(padded, 1);
   lenient_.assign(padded, kBlockedAtCentre);
   point_cell_.assign(grid.cells(), kNoPoints);
-  // The cells touching ground too steep or of another level: beside a drop (a pit's rim, a dock's
-  // edge) an unobserved cell may hold the edge anywhere in it. Marked from the drops, which are
-  // few, so that the loop below reads one byte per cell.
-  std::vector<std::uint8_t> beside_drop(grid.cells(), 0);
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      if (classes.state[cell] != CellState::kBlocked ||
-          (classes.reason[cell] != CellReason::kTooSteep &&
-           classes.reason[cell] != CellReason::kOtherLevel))
-        continue;
-      for (int dr = -1; dr <= 1; ++dr)
-        for (int dc = -1; dc <= 1; ++dc)
-          if (grid.inside(column + dc, row + dr))
-            beside_drop[grid.index(column + dc, row + dr)] = 1;
-    }
+  const std::vector<std::uint8_t> edge_may_cross =
+      unknownCellsAnEdgeMayCross(classes, grid, int(std::ceil(footprints.outer_radius)));
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row), here = paddedIndex(column, row);
@@ -288,9 +370,9 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
       if (state == CellState::kBlocked) {
         lenient_[here] = classes.blocked_by_points_only[cell] ? kBlockedByPoints : kBlockedAtCentre;
       } else if (state == CellState::kUnknown) {
-        lenient_[here] = tolerated[cell]     ? kPassable
-                         : beside_drop[cell] ? kBlockedWhole
-                                             : kBlockedAtCentre;
+        lenient_[here] = tolerated[cell]        ? kPassable
+                         : edge_may_cross[cell] ? kBlockedWhole
+                                                : kBlockedAtCentre;
       } else {
         lenient_[here] = kPassable;
       }

@@ -96,6 +96,16 @@ Footprints makeFootprints(const RobotParams& robot, double resolution,
 // of an obstacle between its sparse points.
 std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, const MapGrid& grid);
 
+// Unobserved cells an edge of the ground may cross anywhere (1, else 0), which the exact test
+// therefore takes as a whole, not by their centre:
+// - beside a drop (ground too steep or of another level: a pit's far wall, a dock's edge);
+// - where the ground ends along the scanner's rays: the cell's neighbour towards the scanner is
+//   free, and beyond the cell, along the ray, the first cell seen within `reach` cells is a drop,
+//   or none is (a pit's near rim, whose wall the rays cannot see). A gap between the samples of
+//   one floor has that floor again beyond it and keeps its centre rule.
+std::vector<std::uint8_t> unknownCellsAnEdgeMayCross(const CellClasses& classes,
+                                                     const MapGrid& grid, int reach);
+
 // Cells whose box tests read nothing that sparse cells change (0), else 1: beyond the box's reach
 // with the exact test's rim, plus the reach of the tolerated-unknown rule's closing, from every
 // sparse cell. There the placement with sparse cells blocked tests exactly as the one without.

@@ -50,6 +50,8 @@ class PlainPoseTests {
                 1),
         footprints_(detail::makeFootprints(robot, grid.resolution, yaws, 1)),
         gates_(grid, classes, tolerated_, footprints_, robot),
+        edge_may_cross_(detail::unknownCellsAnEdgeMayCross(
+            classes, grid, int(std::ceil(footprints_.outer_radius)))),
         inner_radius_(footprints_.inner_radius) {}
 
   // Blocked or unobserved, and everything outside the map.
@@ -58,22 +60,9 @@ class PlainPoseTests {
     const CellState state = classes_.state[grid_.index(column, row)];
     return state == CellState::kBlocked || state == CellState::kUnknown;
   }
-  // Ground too steep or of another level: a drop.
-  bool drop(int column, int row) const {
-    if (!grid_.inside(column, row)) return false;
-    const std::size_t cell = grid_.index(column, row);
-    return classes_.state[cell] == CellState::kBlocked &&
-           (classes_.reason[cell] == CellReason::kTooSteep ||
-            classes_.reason[cell] == CellReason::kOtherLevel);
-  }
-  bool besideADrop(int column, int row) const {
-    for (int dy = -1; dy <= 1; ++dy)
-      for (int dx = -1; dx <= 1; ++dx)
-        if (drop(column + dx, row + dy)) return true;
-    return false;
-  }
   // 0 passable, 1 blocked by measured points only, 2 blocking at its centre (blocked otherwise,
-  // unobserved, outside the map), 3 blocking as a whole (unobserved beside a drop).
+  // unobserved, outside the map), 3 blocking as a whole (unobserved where an edge of the ground
+  // may cross it).
   int lenientCode(int column, int row) const {
     if (!grid_.inside(column, row)) return 2;
     const std::size_t cell = grid_.index(column, row);
@@ -81,7 +70,7 @@ class PlainPoseTests {
       case CellState::kBlocked:
         return classes_.blocked_by_points_only[cell] ? 1 : 2;
       case CellState::kUnknown:
-        return tolerated_[cell] ? 0 : besideADrop(column, row) ? 3 : 2;
+        return tolerated_[cell] ? 0 : edge_may_cross_[cell] ? 3 : 2;
       default:
         return 0;
     }
@@ -171,6 +160,7 @@ class PlainPoseTests {
   // Only for the clearances that gate the two tests (see fit()).
   detail::Footprints footprints_;
   detail::FootprintTester gates_;
+  std::vector<std::uint8_t> edge_may_cross_;
   double inner_radius_;  // the box's inscribed radius [cells]
 };
 
