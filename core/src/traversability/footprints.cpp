@@ -253,12 +253,15 @@ class PaddedGroundSeen {
  public:
   PaddedGroundSeen(const CellClasses& classes, const MapGrid& grid)
       : stride_(std::size_t(grid.width) + 2), seen_(stride_ * (std::size_t(grid.height) + 2), 0) {
-    for (int row = 0; row < grid.height; ++row)
-      for (int column = 0; column < grid.width; ++column) {
-        const std::size_t cell = grid.index(column, row);
-        seen_[at(column, row)] =
-            isFree(classes.state[cell]) && (classes.own_place.empty() || !classes.own_place[cell]);
-      }
+    const bool own_place = !classes.own_place.empty();
+    for (int row = 0; row < grid.height; ++row) {
+      // Row by row through pointers: a multi-beam frame's map has hundreds of thousands of cells.
+      const CellState* states = classes.state.data() + grid.index(0, row);
+      const std::uint8_t* own = own_place ? classes.own_place.data() + grid.index(0, row) : nullptr;
+      std::uint8_t* out = seen_.data() + at(0, row);
+      for (int column = 0; column < grid.width; ++column)
+        out[column] = isFree(states[column]) && !(own && own[column]);
+    }
   }
   bool operator()(int column, int row) const { return seen_[at(column, row)] != 0; }
   // Whether any of the cell's eight neighbours is such ground.
@@ -306,24 +309,29 @@ bool groundEndsIn(const CellClasses& classes, const MapGrid& grid,
 std::vector<std::uint8_t> unknownCellsAnEdgeMayCross(const CellClasses& classes,
                                                      const MapGrid& grid, int reach) {
   std::vector<std::uint8_t> crossed(grid.cells(), 0);
-  // Beside a drop: marked from the drops, which are few.
-  for (int row = 0; row < grid.height; ++row)
+  // Beside a drop: the unobserved cells around the drops, which are few.
+  for (int row = 0; row < grid.height; ++row) {
+    const CellState* states = classes.state.data() + grid.index(0, row);
     for (int column = 0; column < grid.width; ++column) {
-      if (!isDrop(classes, grid.index(column, row))) continue;
+      if (states[column] != CellState::kBlocked || !isDrop(classes, grid.index(column, row)))
+        continue;
       for (int dr = -1; dr <= 1; ++dr)
         for (int dc = -1; dc <= 1; ++dc)
-          if (grid.inside(column + dc, row + dr)) crossed[grid.index(column + dc, row + dr)] = 1;
+          if (grid.inside(column + dc, row + dr)) {
+            const std::size_t cell = grid.index(column + dc, row + dr);
+            if (classes.state[cell] == CellState::kUnknown) crossed[cell] = 1;
+          }
     }
+  }
   const PaddedGroundSeen ground_seen(classes, grid);
-  for (int row = 0; row < grid.height; ++row)
-    for (int column = 0; column < grid.width; ++column) {
-      const std::size_t cell = grid.index(column, row);
-      if (classes.state[cell] != CellState::kUnknown) {
-        crossed[cell] = 0;
-      } else if (!crossed[cell] && groundEndsIn(classes, grid, ground_seen, column, row, reach)) {
-        crossed[cell] = 1;
-      }
-    }
+  for (int row = 0; row < grid.height; ++row) {
+    const CellState* states = classes.state.data() + grid.index(0, row);
+    std::uint8_t* marks = crossed.data() + grid.index(0, row);
+    for (int column = 0; column < grid.width; ++column)
+      if (states[column] == CellState::kUnknown && !marks[column] &&
+          groundEndsIn(classes, grid, ground_seen, column, row, reach))
+        marks[column] = 1;
+  }
   return crossed;
 }
 
