@@ -141,8 +141,8 @@ std::vector<std::uint8_t> sparseCells(const MapInputs& inputs, const std::vector
   for (int row = 0; row < grid.height; ++row)
     for (int column = 0; column < grid.width; ++column) {
       const std::size_t cell = grid.index(column, row);
-      const bool free = state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle;
-      raw[cell] = free && inputs.ground_plane[cell] >= 0 && spacingOf(column, row) > max_spacing;
+      raw[cell] = isFree(state[cell]) && inputs.ground_plane[cell] >= 0 &&
+                  spacingOf(column, row) > max_spacing;
     }
   // Opening by a square as wide as the step: patches narrower than the step go. Outside the grid
   // counts as not sparse (the constant border), for the erosion and the dilation alike.
@@ -310,8 +310,7 @@ void markSweepWedges(const MapInputs& inputs, const Eigen::Vector3d& scanner, do
               const Eigen::Vector2i c = grid.cellOf(at.x(), at.y());
               if (!grid.inside(c.x(), c.y())) continue;
               const std::size_t cell = grid.index(c.x(), c.y());
-              if (state[cell] == CellState::kGround || state[cell] == CellState::kLowObstacle)
-                markFromAnyThread(sparse[cell]);
+              if (isFree(state[cell])) markFromAnyThread(sparse[cell]);
             }
           }
         }
@@ -612,9 +611,7 @@ CellClasses classifyCells(const ScanAnalysis& analysis, const RobotParams& robot
       overhanging.push_back(inputs.obstacles[i]);
   const std::vector<std::uint8_t> hidden = hiddenCells(analysis, robot, overhanging, threads);
   for (std::size_t cell = 0; cell < cells; ++cell)
-    if (hidden[cell] && (classes.state[cell] == CellState::kGround ||
-                         classes.state[cell] == CellState::kLowObstacle))
-      classes.sparse[cell] = 1;
+    if (hidden[cell] && isFree(classes.state[cell])) classes.sparse[cell] = 1;
   // Ground whose band up to the robot's height (and the headroom it keeps) no beam rose through.
   classes.above_view = cellsAboveTheView(analysis, classes.state, own_cells, top);
   for (std::size_t cell = 0; cell < cells; ++cell)

@@ -13,6 +13,11 @@ namespace clearway::detail {
 
 enum class CellState : std::uint8_t { kUnknown, kGround, kLowObstacle, kBlocked };
 
+// Whether the robot's box may stand over a cell of this state: ground, or a low obstacle on it.
+inline bool isFree(CellState state) {
+  return state == CellState::kGround || state == CellState::kLowObstacle;
+}
+
 struct CellClasses {
   std::vector<CellState> state;
   std::vector<CellReason> reason;

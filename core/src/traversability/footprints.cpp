@@ -233,10 +233,6 @@ std::vector<std::uint8_t> toleratedUnknownCells(const CellClasses& classes, cons
 
 namespace {
 
-bool isFree(CellState state) {
-  return state == CellState::kGround || state == CellState::kLowObstacle;
-}
-
 bool isDrop(const CellClasses& classes, std::size_t cell) {
   return classes.state[cell] == CellState::kBlocked &&
          (classes.reason[cell] == CellReason::kTooSteep ||
@@ -346,8 +342,7 @@ FootprintTester::FootprintTester(const MapGrid& grid, const CellClasses& classes
 
   std::vector<std::uint8_t> free_mask(grid.cells()), lenient_mask(grid.cells());
   for (std::size_t cell = 0; cell < grid.cells(); ++cell) {
-    const CellState state = classes.state[cell];
-    free_mask[cell] = state == CellState::kGround || state == CellState::kLowObstacle;
+    free_mask[cell] = isFree(classes.state[cell]);
     lenient_mask[cell] = free_mask[cell] || tolerated[cell];
   }
   // The two distance transforms side by side.
