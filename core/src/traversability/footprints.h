@@ -199,8 +199,9 @@ class FootprintTester {
   // at its centre. The samples either side of an unobserved stretch leave off about where its
   // cells begin: a door's jamb casts one, and a door 5 cm wider than the robot is passed.
   static constexpr std::uint8_t kBlockedAtCentre = 2;
-  // Unobserved beside a drop (ground too steep or of another level): the edge may lie anywhere
-  // in it, and all of it blocks.
+  // Unobserved where an edge of the ground may cross it (unknownCellsAnEdgeMayCross: beside a
+  // drop, or where the ground ends along the rays): the edge may lie anywhere in it, and all of it
+  // blocks.
   static constexpr std::uint8_t kBlockedWhole = 3;
   std::vector<std::uint8_t> strict_;   // padded
   std::vector<std::uint8_t> lenient_;  // padded
